@@ -1,0 +1,286 @@
+"""Scene configuration: schema, defaults, loading, overrides and validation.
+
+A config has three sections, all in SI units with the paper's symbols:
+
+* ``design``: what a designer of the toy changes (lengths, masses, spring, friction pair,
+  hook geometry, angle limits).
+* ``scene``: the row of swing frames, the start state, and the ``effects`` the scene
+  switches on (each effect is a part the physics builder adds only when named).
+* ``sim``: time step, solver, tolerances and time limits.
+
+Every field is declared once below with its default, unit, allowed range and meaning;
+the README's schema table is generated from the same declarations (``aero-env schema``).
+``load_config(path, overrides={"design.m2": 0.008})`` returns a validated, immutable
+:class:`Config`. Bad input raises :class:`ConfigError` naming the key, the value and
+the allowed range.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any, Mapping
+
+import yaml
+
+
+class ConfigError(ValueError):
+    """A config value is missing, unknown, of the wrong type or out of range."""
+
+
+def spec(default: Any, unit: str, doc: str, lo: float | None = None, hi: float | None = None,
+         lo_open: bool = False, choices: tuple[str, ...] | None = None):
+    """Declare one config field: default, unit, meaning and allowed range."""
+    return field(default=default, metadata=dict(unit=unit, doc=doc, lo=lo, hi=hi,
+                                                lo_open=lo_open, choices=choices))
+
+
+@dataclass(frozen=True)
+class Design:
+    """What a designer changes. Table 1 and Table 3 (white/gray) of the article by default."""
+
+    La: float = spec(0.0483, "m", "axis to counterbalance, along the frame", 0.0, 1.0, lo_open=True)
+    Lb: float = spec(0.0517, "m", "axis to handrail (the hook's seat)", 0.0, 1.0, lo_open=True)
+    Lc: float = spec(0.03, "m", "two-link model: joint (hook) to robot centre; sets I2 with Ld", 0.0, 1.0, lo_open=True)
+    Ld: float = spec(0.06, "m", "two-link model: joint (hook) to bottom of torso; sets I2 with Lc", 0.0, 2.0, lo_open=True)
+    h: float = spec(0.005, "m", "counterbalance offset normal to the frame", -0.5, 0.5)
+    m1: float = spec(0.004, "kg", "swing frame mass (I1 = 2*m1/3*(La^2+Lb^2-La*Lb))", 0.0, 10.0, lo_open=True)
+    m2: float = spec(0.00771, "kg", "robot mass, torso + coins + arm", 0.0, 10.0, lo_open=True)
+    m3: float = spec(0.0072, "kg", "counterbalance mass (point mass at (La, h))", 0.0, 10.0, lo_open=True)
+    dT: float = spec(0.0, "N·m", "frame's own moment at theta1 = 0 without robot and counterbalance", -1.0, 1.0)
+    spring_k: float = spec(8.77e-4, "N·m/rad", "leaf-spring stiffness (torque = k·(alpha - alpha_min))", 0.0, 10.0, lo_open=True)
+    mu_s: float = spec(0.542, "-", "static friction, arm tip on handrail", 0.0, 10.0)
+    mu_k: float = spec(0.409, "-", "kinetic friction, arm tip on handrail (<= mu_s)", 0.0, 10.0)
+    arm_length: float = spec(0.03, "m", "arm: torso axle to hook tip", 0.0, 1.0, lo_open=True)
+    arm_mass: float = spec(0.0015, "kg", "arm mass (part of m2), a uniform rod", 0.0, 10.0, lo_open=True)
+    torso_com: float = spec(0.03, "m", "torso axle to torso centre of mass (coins included)", 0.0, 1.0, lo_open=True)
+    alpha_min_deg: float = spec(60.0, "deg", "arm angle with the spring straight (arm snapped forward)", 0.0, 180.0)
+    alpha_max_deg: float = spec(120.0, "deg", "arm angle with the spring fully bent", 0.0, 180.0)
+    rest_angle_deg: float = spec(55.0, "deg", "frame angle theta1 at rest, counterbalance against the stopper", -90.0, 270.0)
+    stop_angle_deg: float = spec(180.0, "deg", "frame angle theta1 at the end stop", -90.0, 270.0)
+    notch_angle_deg: float = spec(75.0, "deg", "handrail notch bisector direction (world) at the rest angle", -180.0, 180.0)
+    notch_opening_deg: float = spec(90.0, "deg", "angle between the handrail notch's two faces", 30.0, 150.0)
+    notch_back_face: float = spec(0.01, "m", "handrail notch face that rises toward the back (at rest)", 0.0, 0.1, lo_open=True)
+    notch_front_face: float = spec(0.01, "m", "handrail notch face that rises toward the front (at rest)", 0.0, 0.1, lo_open=True)
+    handrail_thickness: float = spec(0.001, "m", "card thickness of the handrail faces", 0.0, 0.01, lo_open=True)
+    hook_radius: float = spec(0.001, "m", "radius of the arm tip's contact edge", 0.0, 0.01, lo_open=True)
+    Cd: float = spec(1.05, "-", "drag coefficient (drag effect)", 0.0, 10.0)
+    rho: float = spec(1.29, "kg/m^3", "air density (drag effect)", 0.0, 100.0)
+    frame_width: float = spec(0.01, "m", "projected width of a frame, per unit length (drag effect)", 0.0, 1.0)
+    robot_width: float = spec(0.02, "m", "projected width of torso and arm (drag effect)", 0.0, 1.0)
+
+
+@dataclass(frozen=True)
+class Effects:
+    """The effects a scene switches on; the builder adds only the parts named here."""
+
+    drag: bool = spec(False, "-", "quadratic air drag on frames, torso and arm")
+    friction: str = spec("static_kinetic", "-", "hook friction law: static_kinetic switches mu_s/mu_k by slip speed; "
+                         "static or kinetic use one coefficient", choices=("static_kinetic", "static", "kinetic"))
+    spring_law: str = spec("linear", "-", "leaf spring: linear k·da, or stiffening k/2·da^2",
+                           choices=("linear", "stiffening"))
+    live_frames: int = spec(1, "-", "frames ahead of the robot's frame that are simulated (others cost nothing)", 1, 100)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """The row of frames and the start state."""
+
+    frames: int = spec(8, "-", "swing frames in the row", 2, 1000)
+    pitch: float = spec(0.082, "m", "horizontal distance between neighbouring frame axes", 0.0, 1.0, lo_open=True)
+    rise: float = spec(0.002, "m", "height gained per frame (the incline of the row)", -0.5, 0.5)
+    theta2_start_deg: float = spec(81.0, "deg", "robot line angle at the first catch (brief: 80-81)", 0.0, 180.0)
+    floor_drop: float = spec(0.15, "m", "floor depth below the axis of the frame the robot left", 0.0, 10.0, lo_open=True)
+    effects: Effects = field(default_factory=Effects, metadata=dict(unit="", doc="effects switched on", lo=None,
+                                                                    hi=None, lo_open=False, choices=None))
+
+
+@dataclass(frozen=True)
+class Sim:
+    """Time stepping, solver and event thresholds."""
+
+    dt: float = spec(0.0005, "s", "physics time step", 0.0, 0.01, lo_open=True)
+    iterations: int = spec(30, "-", "pymunk solver iterations per step", 1, 1000)
+    collision_slop: float = spec(2e-5, "m", "allowed contact overlap (pymunk slop)", 0.0, 0.001)
+    slip_speed: float = spec(0.001, "m/s", "tangential speed above which the hook slides (mu_k)", 0.0, 1.0, lo_open=True)
+    contact_hold: float = spec(0.01, "s", "contact must be lost (or kept) this long for a detach (or catch)", 0.0, 1.0, lo_open=True)
+    flight_timeout: float = spec(0.5, "s", "longest flight between detach and catch", 0.0, 10.0, lo_open=True)
+    swing_timeout: float = spec(3.0, "s", "longest swing on one frame before it counts as stalled", 0.0, 60.0, lo_open=True)
+    stop_hold: float = spec(0.3, "s", "time hooked at the end stop before the run is no_detach", 0.0, 10.0, lo_open=True)
+    t_max: float = spec(60.0, "s", "hard limit on simulated time for a run", 0.0, 3600.0, lo_open=True)
+    energy_tolerance: float = spec(1e-4, "J", "largest rise of mechanical energy (above its running minimum) before 'unstable'", 0.0, 1.0, lo_open=True)
+    min_release_height: float = spec(0.008, "m", "a hook letting go lower than this above the next handrail has fallen short", 0.0, 1.0)
+    max_speed: float = spec(20.0, "m/s", "any body faster than this is 'unstable'", 0.0, 1e4, lo_open=True)
+    trace_every: int = spec(2, "-", "record the trace every this many steps", 1, 100000)
+
+
+@dataclass(frozen=True)
+class Config:
+    design: Design = field(default_factory=Design)
+    scene: Scene = field(default_factory=Scene)
+    sim: Sim = field(default_factory=Sim)
+
+    def to_dict(self) -> dict:
+        return dataclasses.asdict(self)
+
+    def replace(self, overrides: Mapping[str, Any]) -> "Config":
+        """A new validated config with dotted-key overrides applied."""
+        return from_dict(self.to_dict(), overrides)
+
+
+SECTIONS = {"design": Design, "scene": Scene, "sim": Sim}
+
+
+def _set_dotted(tree: dict, key: str, value: Any) -> None:
+    parts = key.split(".")
+    if len(parts) < 2 or parts[0] not in SECTIONS:
+        raise ConfigError(f"override key {key!r}: must start with one of {sorted(SECTIONS)} (e.g. design.m2)")
+    node = tree
+    for p in parts[:-1]:
+        child = node.setdefault(p, {})
+        if not isinstance(child, dict):
+            raise ConfigError(f"override key {key!r}: {p!r} is a value, not a section")
+        node = child
+    node[parts[-1]] = value
+
+
+def _check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
+    meta = f.metadata
+    typ = f.type if isinstance(f.type, type) else {"float": float, "int": int, "bool": bool, "str": str}.get(f.type)
+    if typ is bool:
+        if not isinstance(value, bool):
+            raise ConfigError(f"{path} = {value!r}: must be true or false")
+        return value
+    if typ is str:
+        if not isinstance(value, str) or (meta["choices"] and value not in meta["choices"]):
+            raise ConfigError(f"{path} = {value!r}: must be one of {list(meta['choices'])}")
+        return value
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ConfigError(f"{path} = {value!r}: must be a number ({typ.__name__}) in {_range_text(meta)}")
+    if typ is int:
+        if isinstance(value, float) and not value.is_integer():
+            raise ConfigError(f"{path} = {value!r}: must be a whole number in {_range_text(meta)}")
+        value = int(value)
+    else:
+        value = float(value)
+    if not math.isfinite(value):
+        raise ConfigError(f"{path} = {value!r}: must be finite, in {_range_text(meta)}")
+    lo, hi = meta["lo"], meta["hi"]
+    if lo is not None and (value < lo or (meta["lo_open"] and value == lo)):
+        raise ConfigError(f"{path} = {value!r}: out of range, allowed {_range_text(meta)}")
+    if hi is not None and value > hi:
+        raise ConfigError(f"{path} = {value!r}: out of range, allowed {_range_text(meta)}")
+    return value
+
+
+def _range_text(meta: Mapping[str, Any]) -> str:
+    lo, hi, unit = meta["lo"], meta["hi"], meta["unit"]
+    left = "(" if meta["lo_open"] else "["
+    u = f" {unit}" if unit and unit != "-" else ""
+    return f"{left}{lo}, {hi}]{u}"
+
+
+def _build(cls, data: Any, path: str):
+    if data is None:
+        data = {}
+    if not isinstance(data, Mapping):
+        raise ConfigError(f"{path}: must be a mapping of keys to values, got {data!r}")
+    known = {f.name: f for f in fields(cls)}
+    unknown = sorted(set(data) - set(known))
+    if unknown:
+        raise ConfigError(f"{path}.{unknown[0]}: unknown key; allowed keys are {sorted(known)}")
+    kwargs = {}
+    for name, f in known.items():
+        if name not in data:
+            continue
+        sub = f.default_factory if f.default_factory is not dataclasses.MISSING else None
+        if sub is not None and dataclasses.is_dataclass(sub):
+            kwargs[name] = _build(sub, data[name], f"{path}.{name}")
+        else:
+            kwargs[name] = _check_value(f"{path}.{name}", f, data[name])
+    return cls(**kwargs)
+
+
+def _check_design(d: Design) -> None:
+    if d.mu_k > d.mu_s:
+        raise ConfigError(f"design.mu_k = {d.mu_k!r}: must not exceed design.mu_s = {d.mu_s!r} "
+                          f"(kinetic friction is at most static), allowed [0, {d.mu_s}]")
+    if not d.alpha_min_deg < d.alpha_max_deg:
+        raise ConfigError(f"design.alpha_max_deg = {d.alpha_max_deg!r}: must exceed design.alpha_min_deg = "
+                          f"{d.alpha_min_deg!r}, allowed ({d.alpha_min_deg}, 180]")
+    if not 10.0 <= d.stop_angle_deg - d.rest_angle_deg <= 270.0:
+        raise ConfigError(f"design.stop_angle_deg = {d.stop_angle_deg!r}: the frame must be able to turn from "
+                          f"rest_angle_deg = {d.rest_angle_deg!r} by 10 to 270 deg, allowed "
+                          f"[{d.rest_angle_deg + 10}, {d.rest_angle_deg + 270}]")
+    if d.arm_mass >= d.m2:
+        raise ConfigError(f"design.arm_mass = {d.arm_mass!r}: the arm is part of the robot, allowed (0, {d.m2}) kg "
+                          f"(below design.m2)")
+
+
+def from_dict(data: Mapping[str, Any] | None, overrides: Mapping[str, Any] | None = None) -> Config:
+    """Validate a plain mapping (as read from YAML) plus dotted overrides into a Config."""
+    tree = _deep_copy(data or {})
+    if not isinstance(tree, dict):
+        raise ConfigError(f"config: must be a mapping with sections {sorted(SECTIONS)}, got {data!r}")
+    for key, value in (overrides or {}).items():
+        _set_dotted(tree, key, value)
+    unknown = sorted(set(tree) - set(SECTIONS))
+    if unknown:
+        raise ConfigError(f"{unknown[0]}: unknown section; allowed sections are {sorted(SECTIONS)}")
+    cfg = Config(**{name: _build(cls, tree.get(name), name) for name, cls in SECTIONS.items()})
+    _check_design(cfg.design)
+    return cfg
+
+
+def _deep_copy(x: Any) -> Any:
+    if isinstance(x, Mapping):
+        return {k: _deep_copy(v) for k, v in x.items()}
+    return x
+
+
+def load_config(path: str | Path | None = None, overrides: Mapping[str, Any] | None = None) -> Config:
+    """Load a YAML scene config (or the defaults when ``path`` is None) and apply overrides."""
+    data: Any = {}
+    if path is not None:
+        p = Path(path)
+        if not p.is_file():
+            raise ConfigError(f"config file {str(p)!r}: not found")
+        try:
+            data = yaml.safe_load(p.read_text()) or {}
+        except yaml.YAMLError as exc:
+            raise ConfigError(f"config file {str(p)!r}: not valid YAML ({exc})") from None
+    return from_dict(data, overrides)
+
+
+def parse_override(text: str) -> tuple[str, Any]:
+    """Parse a CLI ``KEY=VALUE`` override; the value is read as YAML (numbers, true/false, words)."""
+    if "=" not in text:
+        raise ConfigError(f"--set {text!r}: expected KEY=VALUE, e.g. design.m2=0.008")
+    key, raw = text.split("=", 1)
+    try:
+        value = yaml.safe_load(raw)
+    except yaml.YAMLError:
+        value = raw
+    return key.strip(), value
+
+
+def schema_rows() -> list[tuple[str, str, str, str, str]]:
+    """(key, default, unit, allowed, meaning) for every field, for docs and ``aero-env schema``."""
+    rows = []
+
+    def walk(cls, prefix):
+        for f in fields(cls):
+            sub = f.default_factory if f.default_factory is not dataclasses.MISSING else None
+            if sub is not None and dataclasses.is_dataclass(sub):
+                walk(sub, f"{prefix}.{f.name}")
+                continue
+            m = f.metadata
+            allowed = ("one of " + ", ".join(m["choices"])) if m["choices"] else (
+                "true/false" if f.type in (bool, "bool") else _range_text(m))
+            rows.append((f"{prefix}.{f.name}", repr(f.default), m["unit"], allowed, m["doc"]))
+
+    for name, cls in SECTIONS.items():
+        walk(cls, name)
+    return rows

@@ -1,0 +1,93 @@
+"""The frictional hook contact between the arm tip and a handrail notch.
+
+pymunk gives each contact pair one friction coefficient. Static and kinetic friction are
+modelled by switching that coefficient every step before the solver runs (``pre_solve``):
+if the tip slides along the handrail faster than ``slip_speed`` the pair gets mu_k,
+otherwise mu_s. Below the threshold the solver's Coulomb cone holds the tip with mu_s, so
+the tip sticks until the tangential load exceeds mu_s·N and slides on with mu_k until it
+slows below the threshold again. A scene that asks for one coefficient gets no callback at
+all: the coefficient is set on the shape and the C solver does the rest.
+
+The part also keeps track of which frame's handrail the tip touches (begin/separate
+callbacks), which is what the event detector reads; it costs nothing between contacts.
+"""
+
+from __future__ import annotations
+
+import pymunk
+
+from .swing_frame import HANDRAIL, HOOK
+
+
+class StaticKineticFriction:
+    """mu_s while the tip sticks, mu_k while it slides (switched by slip speed)."""
+
+    def __init__(self, mu_s: float, mu_k: float, slip_speed: float):
+        self.mu_s, self.mu_k, self.slip_speed = mu_s, mu_k, slip_speed
+        self.initial = mu_s
+        self.sliding = False
+
+    def pre_solve(self, arbiter: pymunk.Arbiter, _space, _data) -> None:
+        points = arbiter.contact_point_set.points
+        if not points:
+            return
+        hook_shape, rail_shape = arbiter.shapes
+        p = points[0].point_a
+        v = hook_shape.body.velocity_at_world_point(p) - rail_shape.body.velocity_at_world_point(p)
+        slip = abs(v.dot(arbiter.normal.perpendicular()))
+        self.sliding = slip > self.slip_speed
+        arbiter.friction = self.mu_k if self.sliding else self.mu_s
+
+
+class SingleFriction:
+    """One coefficient for sticking and sliding alike (no per-step callback)."""
+
+    pre_solve = None
+
+    def __init__(self, mu: float):
+        self.initial = mu
+
+
+def friction_law(name: str, mu_s: float, mu_k: float, slip_speed: float):
+    if name == "static_kinetic":
+        return StaticKineticFriction(mu_s, mu_k, slip_speed)
+    if name == "static":
+        return SingleFriction(mu_s)
+    if name == "kinetic":
+        return SingleFriction(mu_k)
+    raise ValueError(f"scene.effects.friction = {name!r}: must be static_kinetic, static or kinetic")
+
+
+class HookContact:
+    """Registers the hook/handrail collision handler and tracks which frames the tip touches."""
+
+    def __init__(self, hook_shape: pymunk.Shape, frames, law):
+        self.law = law
+        # Handrail shape -> frame index. pymunk hands callbacks the same shape objects we created.
+        self.frame_of_shape = {shape: f.index for f in frames for shape in f.shapes}
+        self.touching: dict[int, int] = {}  # frame index -> number of touching faces
+        hook_shape.friction = law.initial  # pair coefficient = product of the shapes' (handrails carry 1.0)
+
+    def add_to(self, space: pymunk.Space) -> None:
+        kwargs = dict(begin=self._begin, separate=self._separate)
+        if self.law.pre_solve is not None:
+            kwargs["pre_solve"] = self.law.pre_solve
+        space.on_collision(HOOK, HANDRAIL, **kwargs)
+
+    def _begin(self, arbiter, _space, _data) -> None:
+        i = self.frame_of_shape[arbiter.shapes[1]]
+        self.touching[i] = self.touching.get(i, 0) + 1
+
+    def _separate(self, arbiter, _space, _data) -> None:
+        # Also called when a retired frame's shapes leave the space, or when the space is freed.
+        i = self.frame_of_shape.get(arbiter.shapes[1])
+        if i is None:
+            return
+        n = self.touching.get(i, 0) - 1
+        if n > 0:
+            self.touching[i] = n
+        else:
+            self.touching.pop(i, None)
+
+    def touches(self, frame_index: int) -> bool:
+        return frame_index in self.touching

@@ -1,0 +1,90 @@
+"""The robot: a torso (with its coin weights) and one arm on an axle, with the hook at the arm tip.
+
+Torso-local coordinates: origin at the axle, the torso hangs along -y to its centre of mass
+at (0, -torso_com). Arm-local coordinates: origin at the axle, +x along the arm to the hook
+tip at (arm_length, 0). The arm angle alpha is the interior angle at the axle between the
+torso and the arm (see :func:`engine_params.robot_mass_layout`); the stopper limits it to
+[alpha_min, alpha_max] and the leaf spring (a separate part) pushes it toward alpha_min.
+
+Hanging makes the robot's weight open alpha against the spring until the alpha_max limit
+(the "fully bent" spring); in flight the spring snaps the arm forward to alpha_min.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pymunk
+
+from .engine_params import EngineParams, robot_mass_layout
+from .swing_frame import HOOK
+
+_ROBOT = pymunk.ShapeFilter(group=2)
+
+
+class Robot:
+    def __init__(self, p: EngineParams):
+        self.p = p
+        self.torso = pymunk.Body(p.m_torso, p.I_torso)
+        self.torso.center_of_gravity = (0.0, -p.torso_com)
+        self.arm = pymunk.Body(p.m_arm, p.I_arm)
+        self.arm.center_of_gravity = (p.arm_length / 2.0, 0.0)
+        self.hook_local = pymunk.Vec2d(p.arm_length, 0.0)
+        self.tip = pymunk.Circle(self.arm, p.hook_radius, self.hook_local)
+        self.tip.collision_type = HOOK
+        self.tip.filter = _ROBOT
+        self.tip.friction = 1.0
+        # The arm's body angle minus the torso's is alpha - 90 deg (arm +x vs torso -y).
+        self.axle = pymunk.PivotJoint(self.torso, self.arm, (0.0, 0.0), (0.0, 0.0))
+        self.arm_stop = pymunk.RotaryLimitJoint(self.torso, self.arm, p.alpha_min - math.pi / 2,
+                                                p.alpha_max - math.pi / 2)
+
+    def add_to(self, space: pymunk.Space) -> None:
+        space.add(self.torso, self.arm, self.tip, self.axle, self.arm_stop)
+
+    def place_hanging(self, hook_world: pymunk.Vec2d, theta2: float, alpha: float) -> None:
+        """Put the hook tip at ``hook_world`` with the robot line (centre -> hook) at angle theta2."""
+        hook, _, _, com = robot_mass_layout(self.p.arm_length, self.p.torso_com, self.p.m_arm, self.p.m_torso, alpha)
+        local_line = pymunk.Vec2d(hook[0] - com[0], hook[1] - com[1])
+        rot = theta2 - local_line.angle
+        self.torso.angle = rot
+        self.torso.position = hook_world - pymunk.Vec2d(*hook).rotated(rot)
+        self.arm.angle = rot + alpha - math.pi / 2
+        self.arm.position = self.torso.position
+        for b in (self.torso, self.arm):
+            b.velocity = (0.0, 0.0)
+            b.angular_velocity = 0.0
+
+    # -- state --
+    @property
+    def alpha(self) -> float:
+        return self.arm.angle - self.torso.angle + math.pi / 2
+
+    @property
+    def alpha_rate(self) -> float:
+        return self.arm.angular_velocity - self.torso.angular_velocity
+
+    def hook_world(self) -> pymunk.Vec2d:
+        return self.arm.local_to_world(self.hook_local)
+
+    def com_world(self) -> pymunk.Vec2d:
+        t, a = self.torso, self.arm
+        return (t.local_to_world(t.center_of_gravity) * t.mass + a.local_to_world(a.center_of_gravity) * a.mass) / (
+            t.mass + a.mass)
+
+    def com_velocity(self) -> pymunk.Vec2d:
+        t, a = self.torso, self.arm
+        return (t.velocity * t.mass + a.velocity * a.mass) / (t.mass + a.mass)
+
+    def theta2(self) -> float:
+        """Angle of the robot line from its centre of mass to the hook (90 deg: hanging straight down)."""
+        return (self.hook_world() - self.com_world()).angle
+
+    def theta2_rate(self) -> float:
+        r = self.hook_world() - self.com_world()
+        v = self.arm.velocity_at_local_point(self.hook_local) - self.com_velocity()
+        return r.cross(v) / r.length_squared
+
+    @property
+    def bodies(self):
+        return (self.torso, self.arm)

@@ -1,0 +1,253 @@
+"""Run a scene along its row: events (catch, detach, stop, fall) and the run's outcome.
+
+A run starts with the hook caught on frame 0 at its rest angle (t = 0 is that catch, as in
+the paper). A traversal succeeds when the robot, having left frame i, is caught by frame
+i+1. The run ends at the first failure or when the last frame catches the robot, and names
+its outcome:
+
+==============  =====================================================================
+``completed``   caught by the last frame of the row
+``no_detach``   the hook still holds ``stop_hold`` after the frame reached its stop, or the frame
+                turned back from near its stop with the hook holding (friction too high)
+``stalled``     the frame turned back well before its stop, or the swing outlasted ``swing_timeout``
+``fell_short``  the hook slipped off too low (friction too low), or passed behind the next handrail
+``missed_catch`` the arm did not swing forward in time (spring too weak or too stiff), or the
+                hook passed ahead of / bounced off the next handrail
+``unstable``    a non-finite or exploding state, or mechanical energy rose above tolerance
+``timeout``     the run reached ``sim.t_max`` (should not happen: every phase has a limit)
+==============  =====================================================================
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from .. import units
+from ..config import Config
+from .world import World
+
+TURN_BACK_DEG = 20.0  # a hooked frame this far below its peak angle has turned back
+NEAR_STOP_DEG = 10.0  # a turn-back this close to the stop is the high-friction failure (no_detach)
+TRACE_COLUMNS = ("t", "frame", "theta1", "theta2", "alpha", "omega1", "omega2", "alpha_rate", "contact", "energy")
+
+
+@dataclass
+class Swing:
+    frame: int
+    t_catch: float
+    theta1_catch_deg: float
+    theta2_catch_deg: float
+    t_detach: float | None = None
+    theta1_detach_deg: float | None = None
+    swing_duration: float | None = None
+    alpha_detach_deg: float | None = None
+    theta2_min_deg: float | None = None
+    theta2_max_deg: float | None = None
+
+
+@dataclass
+class SimResult:
+    traversals: int
+    frames: int
+    outcome: str
+    reason: str
+    swings: list[Swing]
+    energy: dict
+    sim_time: float
+    wall_time: float
+    trace: dict | None = field(default=None, repr=False)
+    poses: list | None = field(default=None, repr=False)
+    geometry: dict | None = field(default=None, repr=False)
+
+    def to_json_dict(self) -> dict:
+        """The fields of ``aero-env simulate --json`` (no trace or poses)."""
+        return dict(traversals=self.traversals, frames=self.frames, outcome=self.outcome, reason=self.reason,
+                    swings=[asdict(s) for s in self.swings], energy=dict(self.energy),
+                    sim_time=self.sim_time, wall_time=self.wall_time)
+
+
+class _Flight:
+    """What happened since the hook left frame ``origin``."""
+
+    def __init__(self, origin: int, t_detach: float, alpha_detach: float):
+        self.origin = origin
+        self.t_detach = t_detach
+        self.alpha_detach = alpha_detach
+        self.first_touch: float | None = None
+        self.crossing: tuple[float, float] | None = None  # (hook x - notch x, alpha) when the hook sinks below the notch
+        self.t_cross: float | None = None
+        self.t_snap: float | None = None  # when alpha first came within a quarter range of alpha_min
+        self.height: float | None = None  # hook height above the next notch at detach
+
+
+def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None) -> SimResult:
+    """Simulate ``cfg`` until the robot completes the row or fails. Deterministic for a config."""
+    wall0 = time.perf_counter()
+    world = World(cfg)
+    sim = cfg.sim
+    p = world.p
+    frames, robot, contact = world.frames, world.robot, world.contact
+    n_frames = len(frames)
+    hold = sim.contact_hold
+    half_range = 0.5 * (p.alpha_max - p.alpha_min)
+
+    rows: list[tuple] = []
+    poses: list = []
+    pose_steps = max(1, round(poses_every / sim.dt)) if poses_every else 0
+    e0 = world.energy()
+    max_gain = 0.0
+    e_min, max_rise = e0, 0.0
+    swings = [Swing(0, 0.0, math.degrees(frames[0].theta), math.degrees(robot.theta2()))]
+    th2_lo = th2_hi = swings[0].theta2_catch_deg
+    flight: _Flight | None = None
+    last_touch, theta1_at_touch, alpha_at_touch = 0.0, frames[0].theta, robot.alpha
+    t_stop: float | None = None
+    theta1_peak = frames[0].theta
+    outcome, reason = "timeout", f"reached sim.t_max = {sim.t_max} s"
+    n_max = int(math.ceil(sim.t_max / sim.dt))
+    check_every = sim.trace_every
+
+    for n in range(1, n_max + 1):
+        world.step()
+        t = world.t
+        cur = frames[world.active]
+
+        if flight is None:  # ---- hanging on frame world.active ----
+            if contact.touches(cur.index):
+                last_touch, theta1_at_touch, alpha_at_touch = t, cur.theta, robot.alpha
+            elif t - last_touch >= hold:
+                sw = swings[-1]
+                sw.t_detach, sw.theta1_detach_deg = last_touch, math.degrees(theta1_at_touch)
+                sw.swing_duration = last_touch - sw.t_catch
+                sw.alpha_detach_deg = math.degrees(alpha_at_touch)
+                sw.theta2_min_deg, sw.theta2_max_deg = th2_lo, th2_hi
+                flight = _Flight(cur.index, last_touch, alpha_at_touch)
+            if flight is None:
+                theta1_peak = max(theta1_peak, cur.theta)
+                if cur.at_stop():
+                    t_stop = t if t_stop is None else t_stop
+                    if t - t_stop >= sim.stop_hold:
+                        outcome, reason = "no_detach", (
+                            f"hook still on frame {cur.index} {sim.stop_hold} s after it reached its stop "
+                            f"({math.degrees(p.stop_angle):.0f} deg): friction holds it")
+                        break
+                elif cur.theta < theta1_peak - math.radians(TURN_BACK_DEG):
+                    peak = math.degrees(theta1_peak)
+                    if theta1_peak >= p.stop_angle - math.radians(NEAR_STOP_DEG):
+                        outcome, reason = "no_detach", (f"frame {cur.index} reached {peak:.1f} deg, near its stop, and "
+                                                        f"turned back under the robot: the hook never slipped off")
+                    else:
+                        outcome, reason = "stalled", (f"frame {cur.index} turned back at {peak:.1f} deg, short of its "
+                                                      f"stop, with the robot hooked: too little moment imbalance")
+                    break
+                if t - swings[-1].t_catch > sim.swing_timeout:
+                    outcome, reason = "stalled", f"swing on frame {cur.index} lasted over {sim.swing_timeout} s"
+                    break
+        else:  # ---- in flight from frame flight.origin ----
+            nxt = flight.origin + 1
+            if contact.touches(nxt):
+                flight.first_touch = t if flight.first_touch is None else flight.first_touch
+                if t - flight.first_touch >= hold:  # caught
+                    world.set_active(nxt)
+                    cur = frames[nxt]
+                    swings.append(Swing(nxt, flight.first_touch, math.degrees(cur.theta),
+                                        math.degrees(robot.theta2())))
+                    th2_lo = th2_hi = swings[-1].theta2_catch_deg
+                    flight, t_stop, theta1_peak = None, None, cur.theta
+                    last_touch, theta1_at_touch, alpha_at_touch = t, cur.theta, robot.alpha
+                    if nxt == n_frames - 1:
+                        outcome, reason = "completed", f"caught by the last frame ({nxt})"
+                        break
+                    continue
+            else:
+                flight.first_touch = None
+            hook = robot.hook_world()
+            seat = frames[nxt].hook_seat_world()
+            if flight.height is None:
+                flight.height = hook.y - seat.y
+            if flight.t_snap is None and robot.alpha < p.alpha_min + 0.5 * half_range:
+                flight.t_snap = t - flight.t_detach
+            if flight.crossing is None and hook.y < seat.y:
+                flight.crossing = (hook.x - seat.x, robot.alpha)
+                flight.t_cross = t - flight.t_detach
+            com = robot.com_world()
+            if com.y < world.floor_y(com.x) or t - flight.t_detach > sim.flight_timeout:
+                outcome, reason = _classify_miss(flight, nxt, half_range, p, sim.min_release_height * units.LENGTH)
+                break
+
+        if n % check_every == 0:
+            e = world.energy()
+            th2 = robot.theta2()
+            if not (math.isfinite(e) and math.isfinite(th2)) or world.max_speed() > p.max_speed:
+                outcome, reason = "unstable", "non-finite or exploding state (a body exceeded sim.max_speed)"
+                break
+            max_gain = max(max_gain, e - e0)
+            e_min = min(e_min, e)
+            max_rise = max(max_rise, e - e_min)
+            if max_rise > sim.energy_tolerance:
+                outcome, reason = "unstable", (f"mechanical energy rose by {max_rise:.3g} J, above "
+                                               f"sim.energy_tolerance = {sim.energy_tolerance} J: numerical error")
+                break
+            th2d = math.degrees(th2)
+            if flight is None:
+                th2_lo, th2_hi = min(th2_lo, th2d), max(th2_hi, th2d)
+            if trace:
+                rows.append(_trace_row(world, t, th2, e))
+        if pose_steps and n % pose_steps == 0:
+            poses.append((t, *world.pose()))
+
+    traversals = len(swings) - 1
+    if flight is None and swings[-1].theta2_min_deg is None:
+        swings[-1].theta2_min_deg, swings[-1].theta2_max_deg = th2_lo, th2_hi
+    e_final = world.energy()
+    result = SimResult(
+        traversals=traversals, frames=n_frames, outcome=outcome, reason=reason, swings=swings,
+        energy=dict(initial=e0, final=e_final, max_gain=max(max_gain, e_final - e0), max_rise=max_rise),
+        sim_time=world.t, wall_time=time.perf_counter() - wall0,
+        trace={c: np.array(v) for c, v in zip(TRACE_COLUMNS, zip(*rows))} if trace and rows else None,
+        poses=poses if pose_steps else None,
+        geometry=world.geometry() if pose_steps else None,
+    )
+    return result
+
+
+def _trace_row(world: World, t: float, th2: float, e: float) -> tuple:
+    robot, cur = world.robot, world.frames[world.active]
+    touching = sorted(world.contact.touching)
+    return (t, cur.index, cur.theta, th2, robot.alpha, cur.omega, robot.theta2_rate(), robot.alpha_rate,
+            touching[0] if touching else -1, e)
+
+
+def _classify_miss(flight: _Flight, nxt: int, half_range: float, p, min_release_height: float) -> tuple[str, str]:
+    """Name a failed transfer by its cause, in this order:
+
+    1. the arm had less than half its range left at detach -> ``missed_catch`` (spring too stiff:
+       it never bent, so it has no motion left);
+    2. the hook left the handrail less than ``sim.min_release_height`` above the next handrail ->
+       ``fell_short`` (it slipped off before the frame had lifted the robot);
+    3. the arm was still swinging when the hook came down to the next handrail -> ``missed_catch``
+       (spring too weak for the fall);
+    4. the arm was ready: the hook passed behind the handrail -> ``fell_short``, ahead -> ``missed_catch``.
+    """
+    mm = 1e3 / units.LENGTH
+    where = f"after leaving frame {flight.origin}"
+    room = flight.alpha_detach - p.alpha_min
+    if room < half_range:
+        return "missed_catch", (f"{where}: the arm was at {math.degrees(flight.alpha_detach):.0f} deg when the hook "
+                                f"let go, with no swing left to reach frame {nxt} (spring too stiff to bend)")
+    if flight.height is not None and flight.height < min_release_height:
+        return "fell_short", (f"{where}: the hook slipped off only {flight.height * mm:.1f} mm above frame {nxt}'s "
+                              f"handrail, before the frame had lifted the robot (friction too low?)")
+    if flight.crossing is None:
+        return "missed_catch", f"{where}: the hook never came down to frame {nxt}'s handrail"
+    dx, alpha_cross = flight.crossing
+    if flight.t_snap is None or flight.t_snap > flight.t_cross:
+        return "missed_catch", (f"{where}: the arm had swung only {math.degrees(flight.alpha_detach - alpha_cross):.0f}"
+                                f" deg forward when the hook came down to frame {nxt}'s handrail (spring too weak)")
+    if dx < 0:
+        return "fell_short", f"{where}: the hook passed {-dx * mm:.1f} mm behind frame {nxt}'s handrail"
+    return "missed_catch", f"{where}: the hook passed {dx * mm:.1f} mm ahead of frame {nxt}'s handrail or bounced off"

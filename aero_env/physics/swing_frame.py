@@ -1,0 +1,91 @@
+"""A swing frame: a pivoted body with its stopper, counterbalance and notched handrail.
+
+Frame-local coordinates: origin at the rotation axis, +x towards the counterbalance, so
+the body angle *is* theta1 (the brief's convention). The handrail (hook seat) is at
+(-Lb, 0); the counterbalance is a point mass at (La, h). The stopper skewer is a rotary
+limit: the frame turns only between the rest angle (held there by the counterbalance) and
+the end stop.
+
+The handrail is a notch of two card faces meeting at a corner. At the rest angle its
+bisector points along ``notch_angle`` (world); the robot's hook sits in the corner. As the
+frame turns, the notch tilts with it, the normal force drops and the hook slides along the
+back face and off its end: that is the detach (brief, steps 3-4).
+"""
+
+from __future__ import annotations
+
+import math
+
+import pymunk
+
+from .engine_params import EngineParams
+
+HOOK = 1  # collision types
+HANDRAIL = 2
+FLOOR = 3
+_NO_SELF = pymunk.ShapeFilter(group=1)  # handrails of different frames never collide with each other
+
+
+class SwingFrame:
+    def __init__(self, index: int, p: EngineParams):
+        self.index = index
+        self.axis = pymunk.Vec2d(index * p.pitch, index * p.rise)
+        m = p.m_frame + p.m_cb
+        cog = pymunk.Vec2d((p.m_frame * p.frame_com_x + p.m_cb * p.La) / m, p.m_cb * p.h / m)
+        body = pymunk.Body(m, 1.0)
+        # Order matters in pymunk: centre of gravity, then angle, then position (angle turns about the cog).
+        body.center_of_gravity = cog
+        body.moment = p.I_frame_axis + p.m_frame * p.frame_com_x**2 + p.m_cb * (p.La**2 + p.h**2) - m * cog.length_squared
+        body.angle = p.rest_angle
+        body.position = self.axis
+        self.body = body
+        self.rest_angle, self.stop_angle = p.rest_angle, p.stop_angle
+
+        self.hook_seat_local = pymunk.Vec2d(-p.Lb, 0.0)  # where the hook's centre sits in the corner
+        n_back = pymunk.Vec2d(1.0, 0.0).rotated(p.notch_angle - p.notch_opening / 2 - p.rest_angle)
+        n_front = pymunk.Vec2d(1.0, 0.0).rotated(p.notch_angle + p.notch_opening / 2 - p.rest_angle)
+        clearance = p.rail_radius + p.hook_radius
+        corner = self.hook_seat_local - (n_back + n_front) * (clearance / (1.0 + n_back.dot(n_front)))
+        # Each face runs from the corner along the other face's normal (the two form the notch).
+        self.faces_local = ((corner, corner + n_front * p.notch_back_face),
+                            (corner, corner + n_back * p.notch_front_face))
+        self.shapes = []
+        for a, b in self.faces_local:
+            seg = pymunk.Segment(body, a, b, p.rail_radius)
+            seg.collision_type = HANDRAIL
+            seg.filter = _NO_SELF
+            seg.friction = 1.0  # the hook contact sets the pair's coefficient (see hook_contact)
+            self.shapes.append(seg)
+        # The frame owns the static anchor (the skewers) so it can join and leave a space whole.
+        self.anchor = pymunk.Body(body_type=pymunk.Body.STATIC)
+        self.constraints = [
+            pymunk.PivotJoint(self.anchor, body, self.axis, (0.0, 0.0)),
+            pymunk.RotaryLimitJoint(self.anchor, body, p.rest_angle, p.stop_angle),
+        ]
+        self.live = False
+
+    # -- presence in the space (frames outside the live window cost nothing) --
+    def attach(self, space: pymunk.Space) -> None:
+        if not self.live:
+            space.add(self.anchor, self.body, *self.shapes, *self.constraints)
+            self.live = True
+
+    def retire(self, space: pymunk.Space) -> None:
+        if self.live:
+            space.remove(self.anchor, self.body, *self.shapes, *self.constraints)
+            self.live = False
+
+    # -- state --
+    @property
+    def theta(self) -> float:
+        return self.body.angle
+
+    @property
+    def omega(self) -> float:
+        return self.body.angular_velocity
+
+    def hook_seat_world(self) -> pymunk.Vec2d:
+        return self.body.local_to_world(self.hook_seat_local)
+
+    def at_stop(self, tol: float = 1e-3) -> bool:
+        return self.body.angle >= self.stop_angle - tol

@@ -1,0 +1,123 @@
+"""The pymunk world of one scene, composed from parts the way dm_control composes entities.
+
+Always built: the row of :class:`SwingFrame` s, the :class:`Robot`, its leaf spring (the
+scene's spring law picks the part), the :class:`HookContact` (the scene's friction law picks
+its callback) and the floor. Built only when the scene names it: :class:`AirDrag`.
+
+Frames are simulated only inside a live window around the robot's frame: the one it just
+left (still turning to its stopper), its own, and ``effects.live_frames`` ahead. Frames
+further back have reached their stop and are retired from the space; frames further ahead
+wait at rest and are not in the space yet. The step loop itself has no per-effect branches.
+"""
+
+from __future__ import annotations
+
+import pymunk
+
+from .. import units
+from ..config import Config
+from .drag import AirDrag
+from .engine_params import EngineParams, to_engine
+from .hook_contact import HookContact, friction_law
+from .leaf_spring import SPRING_LAWS
+from .robot import Robot
+from .swing_frame import FLOOR, SwingFrame
+
+
+class World:
+    def __init__(self, cfg: Config):
+        self.cfg = cfg
+        p: EngineParams = to_engine(cfg)
+        self.p = p
+        fx = cfg.scene.effects
+        space = pymunk.Space()
+        space.gravity = (0.0, -p.gravity)
+        space.iterations = p.iterations
+        space.collision_slop = p.collision_slop
+        self.space = space
+
+        self.frames = [SwingFrame(i, p) for i in range(p.frames)]
+        self.robot = Robot(p)
+        self.robot.add_to(space)
+        self.spring = SPRING_LAWS[fx.spring_law](self.robot, p.spring_k, p.alpha_min)
+        self.spring.add_to(space)
+        self.contact = HookContact(self.robot.tip, self.frames,
+                                   friction_law(fx.friction, p.mu_s, p.mu_k, p.slip_speed))
+        self.contact.add_to(space)
+        self.drag = AirDrag(self.frames, self.robot, p) if fx.drag else None
+        self.live_ahead = fx.live_frames
+        # The floor follows the row's incline, floor_drop below the frame axes.
+        x0, x1 = -2.0 * p.pitch, (p.frames + 1) * p.pitch
+        self.floor_a = pymunk.Vec2d(x0, x0 / p.pitch * p.rise - p.floor_drop)
+        self.floor_b = pymunk.Vec2d(x1, x1 / p.pitch * p.rise - p.floor_drop)
+        floor = pymunk.Segment(space.static_body, self.floor_a, self.floor_b, 1.0)
+        floor.collision_type = FLOOR
+        space.add(floor)
+
+        self.active = -1
+        self.set_active(0)
+        self.robot.place_hanging(self.frames[0].hook_seat_world(), p.theta2_start, p.alpha_max)
+        self.t = 0.0
+        self.steps = 0
+
+    # -- live window --
+    def set_active(self, i: int) -> None:
+        """Make frame i the robot's frame: keep i-1 (still turning), i and live_ahead frames ahead."""
+        self.active = i
+        lo, hi = max(0, i - 1), min(len(self.frames) - 1, i + self.live_ahead)
+        for f in self.frames:
+            if lo <= f.index <= hi:
+                f.attach(self.space)
+            else:
+                f.retire(self.space)
+
+    def live_frames(self):
+        return [f for f in self.frames if f.live]
+
+    # -- stepping --
+    def step(self) -> None:
+        self.space.step(self.p.dt)
+        self.steps += 1
+        self.t = self.steps * self.p.dt  # no accumulated round-off in the clock
+
+    # -- measurements (engine units inside, SI where it says so) --
+    def floor_y(self, x: float) -> float:
+        a, b = self.floor_a, self.floor_b
+        return a.y + (x - a.x) * (b.y - a.y) / (b.x - a.x)
+
+    def energy(self) -> float:
+        """Total mechanical energy in joules: kinetic + gravitational + spring, over every frame and the robot.
+
+        Frames outside the space are at rest (ahead) or at their stop (behind): their potential
+        energy is constant and still counted, so the total is comparable across window moves.
+        """
+        g = self.p.gravity
+        e = self.spring.energy()
+        for b in [f.body for f in self.frames] + list(self.robot.bodies):
+            v = b.velocity
+            w = b.angular_velocity
+            e += 0.5 * (b.mass * (v.x * v.x + v.y * v.y) + b.moment * w * w)
+            e += b.mass * g * b.local_to_world(b.center_of_gravity).y
+        return units.energy_to_si(e)
+
+    def max_speed(self) -> float:
+        return max(b.velocity.length for b in (*self.robot.bodies, *(f.body for f in self.frames if f.live)))
+
+    def geometry(self) -> dict:
+        """The machine's fixed geometry in SI, for drawing."""
+        s = 1.0 / units.LENGTH
+        p = self.p
+        return dict(
+            axes=[(f.axis.x * s, f.axis.y * s) for f in self.frames],
+            faces_local=[[((a.x * s, a.y * s), (b.x * s, b.y * s)) for a, b in self.frames[0].faces_local]],
+            La=p.La * s, Lb=p.Lb * s, h=p.h * s, rest_angle=p.rest_angle, stop_angle=p.stop_angle,
+            arm_length=p.arm_length * s, torso_com=p.torso_com * s,
+            floor=((self.floor_a.x * s, self.floor_a.y * s), (self.floor_b.x * s, self.floor_b.y * s)),
+        )
+
+    def pose(self) -> tuple:
+        """Current pose in SI: frame angles, torso position and angle, arm angle."""
+        s = 1.0 / units.LENGTH
+        t = self.robot.torso
+        return ([f.body.angle for f in self.frames], (t.position.x * s, t.position.y * s), t.angle,
+                self.robot.arm.angle)

@@ -1,0 +1,128 @@
+"""Pictures of a run: the angle plot (the paper's Fig. 40) and an animation of the machine.
+
+Reads a :class:`~aero_env.physics.SimResult` (SI units); never touches pymunk.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .physics.run import TRACE_COLUMNS, SimResult
+
+
+def write_trace_csv(result: SimResult, path: str | Path) -> None:
+    """Time, active frame, theta1, theta2, alpha (rad), their rates (rad/s), contact (frame index or -1), energy (J)."""
+    if result.trace is None:
+        raise ValueError("this result has no trace: simulate(..., trace=True)")
+    cols = [result.trace[c] for c in TRACE_COLUMNS]
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(TRACE_COLUMNS)
+        for row in zip(*cols):
+            w.writerow([int(v) if c in ("frame", "contact") else repr(float(v)) for c, v in zip(TRACE_COLUMNS, row)])
+
+
+def plot_angles(result: SimResult, path: str | Path, title: str = "") -> None:
+    """theta1 and theta2 (and the arm angle alpha) against time, with catches and detaches marked."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    tr = result.trace
+    if tr is None:
+        raise ValueError("this result has no trace: simulate(..., trace=True)")
+    t = tr["t"]
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 6), sharex=True, gridspec_kw=dict(height_ratios=[3, 1.3]))
+    ax.plot(t, np.degrees(tr["theta1"]), label=r"$\theta_1$ (frame the robot is on)", color="tab:blue")
+    ax.plot(t, np.degrees(tr["theta2"]), label=r"$\theta_2$ (robot line)", color="tab:orange")
+    for s in result.swings:
+        ax.axvline(s.t_catch, color="tab:green", lw=0.8, ls=":")
+        if s.t_detach is not None:
+            ax.axvline(s.t_detach, color="tab:red", lw=0.8, ls="--")
+    ax.plot([], [], color="tab:green", ls=":", label="catch")
+    ax.plot([], [], color="tab:red", ls="--", label="detach")
+    ax.set_ylabel("angle [deg]")
+    ax.legend(loc="lower right", fontsize=8, ncol=2)
+    ax.grid(alpha=0.3)
+    ax.set_title(title or f"{result.outcome}: {result.traversals}/{result.frames - 1} traversals")
+    ax2.plot(t, np.degrees(tr["alpha"]), color="tab:purple", label=r"arm angle $\alpha$")
+    ax2.set_ylabel(r"$\alpha$ [deg]")
+    ax2.set_xlabel("time [s]")
+    ax2.grid(alpha=0.3)
+    ax2.legend(loc="lower right", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _rot(v, a):
+    c, s = math.cos(a), math.sin(a)
+    return (c * v[0] - s * v[1], s * v[0] + c * v[1])
+
+
+def draw_frames(result: SimResult, width: int = 720, height: int = 300, every: int = 1):
+    """Render the recorded poses as a list of RGB numpy arrays (height, width, 3)."""
+    from PIL import Image, ImageDraw
+
+    if result.poses is None or result.geometry is None:
+        raise ValueError("this result has no poses: simulate(..., poses_every=...)")
+    g = result.geometry
+    axes = g["axes"]
+    (fx0, fy0), (fx1, fy1) = g["floor"]
+    xmin, xmax = axes[0][0] - 0.09, axes[-1][0] + 0.09
+    ymid = (axes[0][1] + axes[-1][1]) / 2.0
+    scale = width / (xmax - xmin)
+    ymax = ymid + height / scale * 0.4
+
+    def px(p):
+        return ((p[0] - xmin) * scale, (ymax - p[1]) * scale)
+
+    La, Lb, h = g["La"], g["Lb"], g["h"]
+    faces = g["faces_local"][0]
+    frames_out = []
+    for t, angles, torso_pos, torso_angle, arm_angle in result.poses[::every]:
+        img = Image.new("RGB", (width, height), (250, 250, 247))
+        d = ImageDraw.Draw(img)
+        d.line([px((fx0, fy0)), px((fx1, fy1))], fill=(150, 150, 150), width=2)  # floor
+        for (ax, ay), th in zip(axes, angles):
+            def w(v, ax=ax, ay=ay, th=th):
+                r = _rot(v, th)
+                return px((ax + r[0], ay + r[1]))
+
+            d.line([w((-Lb, 0.0)), w((La, 0.0))], fill=(120, 90, 40), width=3)  # frame
+            for a, b in faces:  # handrail notch
+                d.line([w(a), w(b)], fill=(40, 40, 40), width=2)
+            cx, cy = w((La, h))
+            d.ellipse([cx - 5, cy - 5, cx + 5, cy + 5], fill=(200, 160, 30))  # counterbalance
+            sx, sy = px(_add((ax, ay), _rot((0.4 * La, 0.0), g["stop_angle"] + math.radians(8))))
+            d.ellipse([sx - 2, sy - 2, sx + 2, sy + 2], fill=(90, 90, 90))  # stopper skewer
+            ox, oy = px((ax, ay))
+            d.ellipse([ox - 3, oy - 3, ox + 3, oy + 3], fill=(0, 0, 0))  # axis skewer
+        axle = torso_pos
+        torso_end = _add(axle, _rot((0.0, -2.0 * g["torso_com"]), torso_angle))
+        d.line([px(axle), px(torso_end)], fill=(30, 90, 200), width=6)  # torso with coins
+        cx, cy = px(_add(axle, _rot((0.0, -g["torso_com"]), torso_angle)))
+        d.ellipse([cx - 5, cy - 5, cx + 5, cy + 5], fill=(190, 190, 200))
+        hook = _add(axle, _rot((g["arm_length"], 0.0), arm_angle))
+        d.line([px(axle), px(hook)], fill=(200, 40, 40), width=3)  # arm
+        hx, hy = px(hook)
+        d.ellipse([hx - 3, hy - 3, hx + 3, hy + 3], outline=(200, 40, 40), width=2)
+        d.text((8, 6), f"t = {t:5.2f} s", fill=(0, 0, 0))
+        frames_out.append(np.asarray(img))
+    return frames_out
+
+
+def _add(a, b):
+    return (a[0] + b[0], a[1] + b[1])
+
+
+def write_gif(result: SimResult, path: str | Path, fps: int = 30) -> None:
+    from PIL import Image
+
+    frames = [Image.fromarray(f) for f in draw_frames(result)]
+    frames[0].save(path, save_all=True, append_images=frames[1:], duration=int(1000 / fps), loop=0, optimize=True)

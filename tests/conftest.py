@@ -1,0 +1,20 @@
+from pathlib import Path
+
+import pytest
+
+from aero_env.config import load_config
+from aero_env.physics import simulate
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "configs" / "paper.yaml"
+
+
+@pytest.fixture(scope="session")
+def paper_cfg():
+    return load_config(PAPER)
+
+
+@pytest.fixture(scope="session")
+def paper_run(paper_cfg):
+    """The prototype's whole row, with its trace (simulated once per test session)."""
+    return simulate(paper_cfg, trace=True)

@@ -1,0 +1,98 @@
+"""Config loading, overrides, immutability, and one test per validation rule (each sees its message)."""
+
+import dataclasses
+
+import pytest
+
+from aero_env.cli import main
+from aero_env.config import ConfigError, load_config, parse_override, schema_rows
+
+from .conftest import PAPER
+
+
+def test_paper_config_is_table_1_and_table_3(paper_cfg):
+    d = paper_cfg.design
+    assert (d.La, d.Lb, d.Lc, d.Ld, d.h) == (0.0483, 0.0517, 0.03, 0.06, 0.005)
+    assert (d.m1, d.m2, d.m3) == (0.004, 0.00771, 0.0072)
+    assert (d.mu_s, d.mu_k) == (0.542, 0.409)  # white/gray pair
+    assert d.spring_k == pytest.approx(8.77e-4)
+    assert (d.alpha_min_deg, d.alpha_max_deg, d.rest_angle_deg, d.stop_angle_deg) == (60, 120, 55, 180)
+    assert paper_cfg.scene.frames >= 8 and paper_cfg.scene.rise > 0
+
+
+def test_overrides_apply_and_config_is_immutable():
+    cfg = load_config(PAPER, {"design.m2": 0.008, "scene.effects.drag": True})
+    assert cfg.design.m2 == 0.008 and cfg.scene.effects.drag is True
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        cfg.design.m2 = 1.0
+    # replace() gives a new validated config and leaves the old one alone
+    cfg2 = cfg.replace({"design.m2": 0.009})
+    assert cfg2.design.m2 == 0.009 and cfg.design.m2 == 0.008
+
+
+def test_defaults_without_a_file_equal_the_paper_design():
+    assert load_config().design == load_config(PAPER).design
+
+
+def test_cli_override_values_are_parsed_as_yaml():
+    assert parse_override("design.m2=0.008") == ("design.m2", 0.008)
+    assert parse_override("scene.effects.drag=true") == ("scene.effects.drag", True)
+    assert parse_override("scene.effects.friction=kinetic") == ("scene.effects.friction", "kinetic")
+
+
+@pytest.mark.parametrize("overrides, needles", [
+    ({"design.color": 1}, ["design.color", "unknown key", "allowed keys"]),
+    ({"scene.effects.wind": True}, ["scene.effects.wind", "unknown key"]),
+    ({"design.m2": "heavy"}, ["design.m2", "'heavy'", "must be a number"]),
+    ({"scene.frames": 8.5}, ["scene.frames", "8.5", "whole number"]),
+    ({"scene.effects.drag": "yes"}, ["scene.effects.drag", "true or false"]),
+    ({"scene.effects.friction": "sticky"}, ["scene.effects.friction", "sticky", "static_kinetic"]),
+    ({"design.m2": 0.0}, ["design.m2 = 0.0", "out of range", "(0.0, 10.0] kg"]),
+    ({"design.m3": -0.001}, ["design.m3 = -0.001", "out of range"]),
+    ({"design.Lb": 0.0}, ["design.Lb = 0.0", "out of range", "(0.0, 1.0] m"]),
+    ({"design.La": -0.05}, ["design.La = -0.05", "out of range"]),
+    ({"design.spring_k": float("nan")}, ["design.spring_k", "finite"]),
+    ({"design.mu_k": 0.6}, ["design.mu_k = 0.6", "must not exceed design.mu_s = 0.542", "[0, 0.542]"]),
+    ({"design.alpha_max_deg": 50.0}, ["design.alpha_max_deg = 50.0", "must exceed design.alpha_min_deg = 60"]),
+    ({"design.stop_angle_deg": 60.0}, ["design.stop_angle_deg = 60.0", "rest_angle_deg = 55", "[65.0, 325.0]"]),
+    ({"design.arm_mass": 0.01}, ["design.arm_mass = 0.01", "part of the robot"]),
+    ({"sim.dt": 0.5}, ["sim.dt = 0.5", "out of range", "(0.0, 0.01] s"]),
+    ({"design.Ld": 0.001, "design.Lc": 0.001}, ["design.Ld", "I2", "smaller than its parts"]),
+    ({"physics.dt": 0.001}, ["physics.dt", "must start with one of"]),
+])
+def test_bad_values_name_key_value_and_range(overrides, needles):
+    with pytest.raises(ConfigError) as exc:
+        cfg = load_config(PAPER, overrides)
+        # Errors that need derived quantities (the robot's inertia) surface when the world is built.
+        from aero_env.physics.engine_params import to_engine
+
+        to_engine(cfg)
+    for needle in needles:
+        assert needle in str(exc.value)
+
+
+def test_unknown_section_and_bad_yaml(tmp_path):
+    p = tmp_path / "bad.yaml"
+    p.write_text("design: {m2: 0.008}\nrobot: {}\n")
+    with pytest.raises(ConfigError, match="robot: unknown section"):
+        load_config(p)
+    p.write_text("design: [1, 2\n")
+    with pytest.raises(ConfigError, match="not valid YAML"):
+        load_config(p)
+    with pytest.raises(ConfigError, match="not found"):
+        load_config(tmp_path / "missing.yaml")
+
+
+def test_cli_reports_config_errors_cleanly(capsys):
+    code = main(["simulate", str(PAPER), "--set", "design.m2=-1"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert "design.m2 = -1.0" in err and "out of range" in err and "Traceback" not in err
+
+
+def test_schema_covers_every_field_with_unit_and_range():
+    rows = schema_rows()
+    keys = {r[0] for r in rows}
+    assert {"design.m2", "design.mu_s", "scene.pitch", "scene.effects.drag", "sim.dt"} <= keys
+    for key, default, unit, allowed, doc in rows:
+        assert unit and allowed and doc, key
