@@ -82,6 +82,9 @@ class Effects:
     spring_law: str = spec("linear", "-", "leaf spring: linear k·da, or stiffening k/2·da^2",
                            choices=("linear", "stiffening"))
     live_frames: int = spec(1, "-", "frames ahead of the robot's frame that are simulated (others cost nothing)", 1, 100)
+    hook: str = spec("contact", "-", "contact: the frictional hook on the notched handrail; pin: the two-link model "
+                     "(hook pinned to frame 0, robot one rigid body with m2, Lc, I2; for checking the world)",
+                     choices=("contact", "pin"))
 
 
 @dataclass(frozen=True)
@@ -110,8 +113,10 @@ class Sim:
     swing_timeout: float = spec(3.0, "s", "longest swing on one frame before it counts as stalled", 0.0, 60.0, lo_open=True)
     stop_hold: float = spec(0.3, "s", "time hooked at the end stop before the run is no_detach", 0.0, 10.0, lo_open=True)
     t_max: float = spec(60.0, "s", "hard limit on simulated time for a run", 0.0, 3600.0, lo_open=True)
-    energy_tolerance: float = spec(1e-4, "J", "largest rise of mechanical energy (above its running minimum) before 'unstable'", 0.0, 1.0, lo_open=True)
-    min_release_height: float = spec(0.008, "m", "a hook letting go lower than this above the next handrail has fallen short", 0.0, 1.0)
+    energy_tolerance: float = spec(0.005, "-", "largest rise of mechanical energy above its running minimum before "
+                                   "'unstable', as a fraction of (m2 + m3)·g·(La + Lb)", 0.0, 1.0, lo_open=True)
+    check_every: int = spec(2, "-", "check energy and finiteness every this many steps", 1, 1000)
+    min_release_height: float = spec(0.01, "m", "a hook letting go lower than this above the next handrail has fallen short", 0.0, 1.0)
     max_speed: float = spec(20.0, "m/s", "any body faster than this is 'unstable'", 0.0, 1e4, lo_open=True)
     trace_every: int = spec(2, "-", "record the trace every this many steps", 1, 100000)
 
@@ -157,6 +162,11 @@ def _check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
         if not isinstance(value, str) or (meta["choices"] and value not in meta["choices"]):
             raise ConfigError(f"{path} = {value!r}: must be one of {list(meta['choices'])}")
         return value
+    if isinstance(value, str):
+        try:  # YAML 1.1 reads 1e-9 (no dot) as a string
+            value = float(value)
+        except ValueError:
+            pass
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ConfigError(f"{path} = {value!r}: must be a number ({typ.__name__}) in {_range_text(meta)}")
     if typ is int:
@@ -188,7 +198,7 @@ def _build(cls, data: Any, path: str):
     if not isinstance(data, Mapping):
         raise ConfigError(f"{path}: must be a mapping of keys to values, got {data!r}")
     known = {f.name: f for f in fields(cls)}
-    unknown = sorted(set(data) - set(known))
+    unknown = sorted(map(str, set(data) - set(known)))
     if unknown:
         raise ConfigError(f"{path}.{unknown[0]}: unknown key; allowed keys are {sorted(known)}")
     kwargs = {}
@@ -214,6 +224,11 @@ def _check_design(d: Design) -> None:
         raise ConfigError(f"design.stop_angle_deg = {d.stop_angle_deg!r}: the frame must be able to turn from "
                           f"rest_angle_deg = {d.rest_angle_deg!r} by 10 to 270 deg, allowed "
                           f"[{d.rest_angle_deg + 10}, {d.rest_angle_deg + 270}]")
+    x_max = max(d.La, d.Lb)
+    if abs(d.dT) > d.m1 * 9.81 * x_max:
+        lim = d.m1 * 9.81 * x_max
+        raise ConfigError(f"design.dT = {d.dT!r}: the frame's own moment would put its centre of mass beyond its "
+                          f"ends, allowed [{-lim:.3g}, {lim:.3g}] N·m (m1·g·max(La, Lb))")
     if d.arm_mass >= d.m2:
         raise ConfigError(f"design.arm_mass = {d.arm_mass!r}: the arm is part of the robot, allowed (0, {d.m2}) kg "
                           f"(below design.m2)")
@@ -226,12 +241,19 @@ def from_dict(data: Mapping[str, Any] | None, overrides: Mapping[str, Any] | Non
         raise ConfigError(f"config: must be a mapping with sections {sorted(SECTIONS)}, got {data!r}")
     for key, value in (overrides or {}).items():
         _set_dotted(tree, key, value)
-    unknown = sorted(set(tree) - set(SECTIONS))
+    unknown = sorted(map(str, set(tree) - set(SECTIONS)))
     if unknown:
         raise ConfigError(f"{unknown[0]}: unknown section; allowed sections are {sorted(SECTIONS)}")
     cfg = Config(**{name: _build(cls, tree.get(name), name) for name, cls in SECTIONS.items()})
     _check_design(cfg.design)
+    _check_sim(cfg.sim)
     return cfg
+
+
+def _check_sim(s: Sim) -> None:
+    if s.contact_hold < 5 * s.dt:
+        raise ConfigError(f"sim.contact_hold = {s.contact_hold!r}: must span at least 5 time steps of sim.dt = "
+                          f"{s.dt!r} to tell a detach from a bounce, allowed [{5 * s.dt:.3g}, 1.0] s")
 
 
 def _deep_copy(x: Any) -> Any:

@@ -59,6 +59,8 @@ def test_cli_override_values_are_parsed_as_yaml():
     ({"sim.dt": 0.5}, ["sim.dt = 0.5", "out of range", "(0.0, 0.01] s"]),
     ({"design.Ld": 0.001, "design.Lc": 0.001}, ["design.Ld", "I2", "smaller than its parts"]),
     ({"physics.dt": 0.001}, ["physics.dt", "must start with one of"]),
+    ({"sim.dt": 0.01}, ["sim.contact_hold = 0.01", "5 time steps", "[0.05, 1.0] s"]),
+    ({"design.dT": 0.5}, ["design.dT = 0.5", "beyond its ends", "N·m"]),
 ])
 def test_bad_values_name_key_value_and_range(overrides, needles):
     with pytest.raises(ConfigError) as exc:
@@ -94,5 +96,23 @@ def test_schema_covers_every_field_with_unit_and_range():
     rows = schema_rows()
     keys = {r[0] for r in rows}
     assert {"design.m2", "design.mu_s", "scene.pitch", "scene.effects.drag", "sim.dt"} <= keys
+    by_key = {r[0]: r for r in rows}
+    assert by_key["design.m2"][3] == "(0.0, 10.0] kg" and by_key["design.m2"][2] == "kg"
+    assert by_key["scene.effects.friction"][3] == "one of static_kinetic, static, kinetic"
     for key, default, unit, allowed, doc in rows:
-        assert unit and allowed and doc, key
+        assert unit and doc, key
+
+
+def test_scientific_notation_without_a_dot_is_a_number(tmp_path):
+    # YAML 1.1 reads 8e-4 as a string; the config reads it as the number it means
+    assert load_config(PAPER, dict([parse_override("design.spring_k=8e-4")])).design.spring_k == 8e-4
+    p = tmp_path / "s.yaml"
+    p.write_text("design:\n  spring_k: 9e-4\n")
+    assert load_config(p).design.spring_k == 9e-4
+
+
+def test_mixed_key_types_give_a_config_error(tmp_path):
+    p = tmp_path / "m.yaml"
+    p.write_text("design: {1: 2, foo: 3}\n")
+    with pytest.raises(ConfigError, match="unknown key"):
+        load_config(p)

@@ -30,10 +30,12 @@ def test_prototype_traverses_every_frame(paper_run, paper_cfg):
 
 def test_first_swing_looks_like_the_paper(paper_run):
     s = paper_run.swings[0]
-    assert s.t_catch == 0.0 and s.theta1_catch_deg == pytest.approx(55.0)
     assert 150.0 <= s.theta1_detach_deg <= 175.0  # paper: ~165 deg
     assert 0.5 <= s.swing_duration <= 0.8  # paper: 0.62 s
-    assert s.theta2_catch_deg == pytest.approx(81.0, abs=1.0)  # paper: ~80-81 deg
+    # the robot is placed at theta2 = 81 deg at rest; 20 ms later it has not jumped (a consistent start)
+    tr = paper_run.trace
+    early = tr["t"] <= 0.02
+    assert np.degrees(tr["theta2"][early]) == pytest.approx(81.0, abs=1.0)  # paper: ~80-81 deg
     assert s.theta2_min_deg < 90.0 < s.theta2_max_deg  # the robot swings about the vertical
     assert s.theta2_max_deg - s.theta2_min_deg < 40.0
 
@@ -97,12 +99,14 @@ def test_too_little_moment_imbalance_stalls(paper_cfg):
 
 # ---------------------------------------------------------------- energy
 def test_energy_never_rises_above_its_start(paper_run):
-    # Tolerance 1e-4 J: the height of the 7.7 g robot by 1.3 mm, 3% of the 3.3e-3 J one
-    # counterbalance releases per frame. Measured: max_gain 0, max_rise ~1e-5 J.
+    # The run aborts as `unstable` above sim.energy_tolerance (0.5% of (m2+m3)·g·(La+Lb) = 7.3e-5 J).
+    # The prototype measures max_gain 0 and max_rise 1.05e-5 J (the robot's height by 0.14 mm):
+    # hold it at 3e-5 J so a solver change that triples the numerical error fails here.
     e = paper_run.energy
-    assert e["max_gain"] <= 1e-4
-    assert e["max_rise"] <= 1e-4
-    assert e["final"] < e["initial"]  # stoppers and sliding friction only take energy out
+    assert e["max_gain"] < 3e-5
+    assert e["max_rise"] < 3e-5
+    # stoppers, sliding friction and the inelastic arm stop take out most of what the frames gave
+    assert e["final"] < 0.5 * e["initial"]
 
 
 def test_swing_before_sliding_conserves_energy(paper_run):
@@ -141,17 +145,28 @@ def test_leaf_spring_sign_snaps_a_free_arm_to_alpha_min(paper_cfg):
     assert max(alphas[70:]) < 65.0  # where it stays: the stop is inelastic
 
 
-def test_spring_energy_is_the_integral_of_its_torque(paper_cfg):
-    world = World(paper_cfg)
-    for cls in (LinearLeafSpring, StiffeningLeafSpring):
-        spring = cls(world.robot, world.p.spring_k, world.p.alpha_min)
-        a0 = world.robot.alpha
-        e0 = spring.energy()
-        da = 1e-6
-        world.robot.arm.angle += da
-        e1 = spring.energy()
-        world.robot.arm.angle -= da
-        assert (e1 - e0) / da == pytest.approx(spring.torque(a0 - world.p.alpha_min), rel=1e-4)
+@pytest.mark.parametrize("law", ["linear", "stiffening"])
+def test_spring_constraint_applies_the_torque_of_its_energy(paper_cfg, law):
+    # The torque pymunk actually applies (the constraint's impulse per step) must be -dE/dalpha of
+    # the energy the world books, for the arm at 100 deg.
+    world = World(paper_cfg.replace({"scene.effects.spring_law": law}))
+    robot, spring = world.robot, world.spring
+    robot.place_hanging(pymunk.Vec2d(0.0, 0.0), math.pi / 2, math.radians(100.0))
+    fresh = pymunk.Space()  # the robot and its spring alone, no gravity, no contact
+    world.space.remove(*world.space.constraints)
+    world.space.remove(*[sh for b in robot.bodies for sh in b.shapes], *robot.bodies)
+    robot.add_to(fresh)
+    spring.add_to(fresh)
+    h = 1e-7
+    e0 = spring.energy()
+    robot.arm.angle += h
+    dE = (spring.energy() - e0) / h
+    robot.arm.angle -= h
+    dt = 1e-4
+    fresh.step(dt)
+    # chipmunk's spring impulse is its torque function times dt, applied +j to the arm
+    assert spring.constraint.impulse / dt == pytest.approx(-dE, rel=1e-3)
+    assert dE > 0
 
 
 def test_frame_drag_torque_matches_the_papers_tau1():
@@ -213,3 +228,20 @@ def test_stiffening_spring_law_runs_and_is_named(paper_cfg):
     assert world.spring.name == "stiffening"
     r = simulate(paper_cfg.replace({"scene.effects.spring_law": "stiffening"}))
     assert r.swings[0].t_detach is not None and r.outcome in {"completed", "missed_catch", "fell_short"}
+
+
+def test_frame_own_moment_dT_enters_as_in_equation_1(paper_cfg):
+    # The gravity torque pymunk's frame body (frame + counterbalance) feels about its axis must be
+    # dT·cos(th) - m3·g·La·cos(th) + m3·g·h·sin(th): Eq. (1) without the robot.
+    from aero_env import units
+    from aero_env.models import quasi_static
+
+    cfg = paper_cfg.replace({"design.dT": 0.002})
+    d = cfg.design
+    frame = World(cfg).frames[0]
+    b = frame.body
+    for th in np.radians([0.0, 55.0, 120.0, 180.0]):
+        cog = b.center_of_gravity.rotated(th)  # the body's origin is the axis
+        torque = cog.x * (-b.mass * 9.81 * units.ACCELERATION) / units.TORQUE
+        expected = quasi_static.moment(d, th) - d.m2 * 9.81 * d.Lb * np.cos(th)
+        assert torque == pytest.approx(expected, abs=1e-12)

@@ -2,19 +2,17 @@
 
 Each dragged body carries a strip (a line segment in body coordinates with a projected
 width w). The drag on an element dl is dF = -rho·Cd/2 · w · |v_n|·v_n dl, v_n the velocity
-normal to the strip there. On a rigid body v_n is linear along the strip, so the integral is
-split where v_n changes sign (the brief's remark on tau2: the paper expands it for one sign
-only) and each piece, a cubic, is integrated exactly by 2-point Gauss-Legendre quadrature.
-For a frame turning about its axis this gives exactly tau1 = -(1/8)·rho·Cd·A·w|w|·(La⁴+Lb⁴).
-The force and torque are added through the body's velocity function; bodies without drag
-keep pymunk's own C update and pay nothing.
+normal to the strip there; :func:`aero_env.drag_law.strip_drag` integrates it exactly, split
+where v_n changes sign. For a frame turning about its axis this is exactly the paper's
+tau1 = -(1/8)·rho·Cd·A·w|w|·(La⁴+Lb⁴). The force and torque are added through the body's
+velocity function; bodies without drag keep pymunk's own C update and pay nothing.
 """
 
 from __future__ import annotations
 
 import pymunk
 
-_G = 0.5773502691896257  # 2-point Gauss-Legendre nodes are +-1/sqrt(3), weights 1
+from ..drag_law import strip_drag
 
 
 class DragStrip:
@@ -29,25 +27,14 @@ class DragStrip:
         b = self.body
         p0w, p1w = b.local_to_world(self.p0), b.local_to_world(self.p1)
         length = (p1w - p0w).length
-        axis = (p1w - p0w) / length
-        normal = axis.perpendicular()
-        cog = b.local_to_world(b.center_of_gravity)
+        normal = ((p1w - p0w) / length).perpendicular()
         v0 = b.velocity_at_world_point(p0w).dot(normal)
         v1 = b.velocity_at_world_point(p1w).dot(normal)
-        cuts = [0.0, length]
-        if v0 * v1 < 0.0:  # v_n changes sign inside the strip: integrate each side on its own
-            cuts.insert(1, length * v0 / (v0 - v1))
-        r0 = (p0w - cog).cross(normal)  # lever of a normal force at the strip's start
-        force = torque = 0.0
-        for a, c in zip(cuts[:-1], cuts[1:]):
-            half, mid = (c - a) / 2.0, (c + a) / 2.0
-            for l in (mid - half * _G, mid + half * _G):
-                vn = v0 + (v1 - v0) * l / length
-                f = -self.k * vn * abs(vn) * half
-                force += f
-                torque += (r0 + l * axis.cross(normal)) * f
-        return normal * force, torque
-
+        f, m = strip_drag(v0, v1, length)
+        f, m = f * self.k, m * self.k
+        cog = b.local_to_world(b.center_of_gravity)
+        # moment about the strip start (normal force times distance along the strip), moved to the cog
+        return normal * f, m + (p0w - cog).cross(normal) * f
     def _update_velocity(self, body, gravity, damping, dt):
         f, t = self.force_and_torque()
         body.force += f
@@ -56,9 +43,8 @@ class DragStrip:
 
 
 class AirDrag:
-    """Adds a drag strip to each frame (handrail end to counterbalance end) and to torso and arm."""
+    """Adds a drag strip to each frame (handrail end to counterbalance end) and to the robot's links."""
 
     def __init__(self, frames, robot, p):
         self.strips = [DragStrip(f.body, (-p.Lb, 0.0), (p.La, 0.0), p.frame_width, p.drag_coeff) for f in frames]
-        self.strips.append(DragStrip(robot.torso, (0.0, 0.0), (0.0, -2.0 * p.torso_com), p.robot_width, p.drag_coeff))
-        self.strips.append(DragStrip(robot.arm, (0.0, 0.0), (p.arm_length, 0.0), p.robot_width, p.drag_coeff))
+        self.strips += [DragStrip(body, a, b, p.robot_width, p.drag_coeff) for body, a, b in robot.drag_strips()]

@@ -44,6 +44,8 @@ class EngineParams:
     torso_com: float
     I_arm: float  # about the arm's own centre of mass
     I_torso: float  # about the torso's own centre of mass
+    Lc: float  # two-link joint-to-centre distance (pinned-hook scene)
+    I2: float  # the robot about its centre of mass (paper A14)
     alpha_min: float
     alpha_max: float
     spring_k: float
@@ -102,7 +104,8 @@ def to_engine(cfg: Config) -> EngineParams:
         raise ConfigError(
             f"design.Ld = {d.Ld!r}: the robot inertia I2 = m2/3*(Ld^2+Ld*Lc+Lc^2) is smaller than its parts "
             f"(arm_length, torso_com) allow; raise Ld or Lc, or shorten arm_length/torso_com")
-    frame_com_x = (d.dT / (d.m1 * GRAVITY_SI)) * L  # the frame's own moment dT = m1*g*x
+    # Eq. (1) adds +dT·cos(theta1); a centre of mass at x along the frame gives -m1·g·x·cos(theta1).
+    frame_com_x = -(d.dT / (d.m1 * GRAVITY_SI)) * L
 
     return EngineParams(
         La=d.La * L, Lb=d.Lb * L, h=d.h * L,
@@ -113,7 +116,7 @@ def to_engine(cfg: Config) -> EngineParams:
         notch_back_face=d.notch_back_face * L, notch_front_face=d.notch_front_face * L,
         rail_radius=d.handrail_thickness * L / 2.0, hook_radius=d.hook_radius * L,
         m_robot=m_robot, m_arm=m_arm, m_torso=m_torso, arm_length=arm_length, torso_com=torso_com,
-        I_arm=I_arm, I_torso=I_torso,
+        I_arm=I_arm, I_torso=I_torso, Lc=d.Lc * L, I2=robot_inertia(d) * I,
         alpha_min=rad(d.alpha_min_deg), alpha_max=alpha_max,
         spring_k=d.spring_k * units.TORQUE, mu_s=d.mu_s, mu_k=d.mu_k,
         drag_coeff=0.5 * d.rho * units.DENSITY * d.Cd,

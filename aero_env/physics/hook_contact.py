@@ -61,6 +61,8 @@ def friction_law(name: str, mu_s: float, mu_k: float, slip_speed: float):
 class HookContact:
     """Registers the hook/handrail collision handler and tracks which frames the tip touches."""
 
+    holding_note = ": friction held the hook"
+
     def __init__(self, hook_shape: pymunk.Shape, frames, law):
         self.law = law
         # Handrail shape -> frame index. pymunk hands callbacks the same shape objects we created.
@@ -91,3 +93,25 @@ class HookContact:
 
     def touches(self, frame_index: int) -> bool:
         return frame_index in self.touching
+
+
+class PinnedHook:
+    """The pinned-hook scene: the robot's hook is a pin joint at frame 0's handrail (no friction,
+    no detach). With :class:`~aero_env.physics.robot.RigidRobot` this is the two-link model in
+    pymunk (Appendix B of the article), the check that the world is built right."""
+
+    holding_note = " (the hook is pinned: scene.effects.hook = pin)"
+
+    def __init__(self, robot, frame):
+        self.frame_index = frame.index
+        self.joint = pymunk.PivotJoint(frame.body, robot.bodies[0], frame.hook_seat_local, robot.hook_local)
+
+    def add_to(self, space: pymunk.Space) -> None:
+        space.add(self.joint)
+
+    def touches(self, frame_index: int) -> bool:
+        return frame_index == self.frame_index
+
+    @property
+    def touching(self):
+        return {self.frame_index: 1}

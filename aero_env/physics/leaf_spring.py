@@ -61,3 +61,15 @@ class StiffeningLeafSpring(LinearLeafSpring):
 
 
 SPRING_LAWS = {"linear": LinearLeafSpring, "stiffening": StiffeningLeafSpring}
+
+
+class NoSpring:
+    """The pinned-hook scene's robot is one rigid body: no arm, no spring, no stored energy."""
+
+    name = "none"
+
+    def add_to(self, space: pymunk.Space) -> None:
+        pass
+
+    def energy(self) -> float:
+        return 0.0

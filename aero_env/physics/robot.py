@@ -88,3 +88,56 @@ class Robot:
     @property
     def bodies(self):
         return (self.torso, self.arm)
+
+    def drag_strips(self):
+        """(body, start, end) of each link that feels air drag: the torso (twice its centre's depth) and the arm."""
+        return [(self.torso, (0.0, 0.0), (0.0, -2.0 * self.p.torso_com)), (self.arm, (0.0, 0.0), (self.p.arm_length, 0.0))]
+
+    def pose(self):
+        """(axle position, torso angle, arm angle), engine units."""
+        return self.torso.position, self.torso.angle, self.arm.angle
+
+
+class RigidRobot:
+    """The two-link model's robot for the pinned-hook scene: one rigid body, mass m2 and inertia I2
+    about its centre, which lies Lc from the hook. No arm, no spring (alpha is not modelled)."""
+
+    def __init__(self, p: EngineParams):
+        self.p = p
+        self.body = pymunk.Body(p.m_robot, p.I2)
+        self.body.center_of_gravity = (-p.Lc, 0.0)  # local +x points from the centre to the hook
+        self.hook_local = pymunk.Vec2d(0.0, 0.0)
+        self.alpha = math.nan
+        self.alpha_rate = math.nan
+
+    def add_to(self, space: pymunk.Space) -> None:
+        space.add(self.body)
+
+    def place_hanging(self, hook_world: pymunk.Vec2d, theta2: float, _alpha: float) -> None:
+        self.body.angle = theta2
+        self.body.position = hook_world
+        self.body.velocity, self.body.angular_velocity = (0.0, 0.0), 0.0
+
+    def hook_world(self) -> pymunk.Vec2d:
+        return self.body.position
+
+    def com_world(self) -> pymunk.Vec2d:
+        return self.body.local_to_world(self.body.center_of_gravity)
+
+    def theta2(self) -> float:
+        return self.body.angle
+
+    def theta2_rate(self) -> float:
+        return self.body.angular_velocity
+
+    @property
+    def bodies(self):
+        return (self.body,)
+
+    def drag_strips(self):
+        """The two-link model's robot drag: the link from the joint (hook) to the centre, l in [0, Lc]."""
+        return [(self.body, (0.0, 0.0), (-self.p.Lc, 0.0))]
+
+    def pose(self):
+        """Drawn as a torso hanging from the hook towards the centre of mass."""
+        return self.body.position, self.body.angle + 1.5 * math.pi, self.body.angle

@@ -71,45 +71,57 @@ class SimResult:
 
 
 class _Flight:
-    """What happened since the hook left frame ``origin``."""
+    """What happened since the hook last touched frame ``origin``: tentative until contact has been
+    lost for ``sim.contact_hold``, so every measurement starts at the true detach."""
 
-    def __init__(self, origin: int, t_detach: float, alpha_detach: float):
+    def __init__(self, origin: int, t_detach: float, alpha_detach: float, release_height: float):
         self.origin = origin
         self.t_detach = t_detach
         self.alpha_detach = alpha_detach
+        self.height = release_height  # hook height above the next frame's seat when it let go
         self.first_touch: float | None = None
-        self.crossing: tuple[float, float] | None = None  # (hook x - notch x, alpha) when the hook sinks below the notch
+        self.crossing: tuple[float, float] | None = None  # (hook x - seat x, alpha) as the hook sinks below the seat
         self.t_cross: float | None = None
-        self.t_snap: float | None = None  # when alpha first came within a quarter range of alpha_min
-        self.height: float | None = None  # hook height above the next notch at detach
+        self.t_snap: float | None = None  # when the arm had swung through half its range
+
+    def observe(self, t: float, robot, seat, snapped_alpha: float) -> None:
+        if self.t_snap is None and robot.alpha < snapped_alpha:
+            self.t_snap = t - self.t_detach
+        if self.crossing is None:
+            hook = robot.hook_world()
+            if hook.y < seat.y:
+                self.crossing = (hook.x - seat.x, robot.alpha)
+                self.t_cross = t - self.t_detach
 
 
 def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None) -> SimResult:
     """Simulate ``cfg`` until the robot completes the row or fails. Deterministic for a config."""
     wall0 = time.perf_counter()
     world = World(cfg)
-    sim = cfg.sim
+    sim, d = cfg.sim, cfg.design
     p = world.p
     frames, robot, contact = world.frames, world.robot, world.contact
     n_frames = len(frames)
     hold = sim.contact_hold
     half_range = 0.5 * (p.alpha_max - p.alpha_min)
+    snapped_alpha = p.alpha_min + half_range
+    e_tol = sim.energy_tolerance * (d.m2 + d.m3) * 9.81 * (d.La + d.Lb)
 
     rows: list[tuple] = []
     poses: list = []
     pose_steps = max(1, round(poses_every / sim.dt)) if poses_every else 0
     e0 = world.energy()
-    max_gain = 0.0
-    e_min, max_rise = e0, 0.0
+    max_gain, e_min, max_rise = 0.0, e0, 0.0
     swings = [Swing(0, 0.0, math.degrees(frames[0].theta), math.degrees(robot.theta2()))]
     th2_lo = th2_hi = swings[0].theta2_catch_deg
-    flight: _Flight | None = None
-    last_touch, theta1_at_touch, alpha_at_touch = 0.0, frames[0].theta, robot.alpha
+    flight: _Flight | None = None  # committed: the hook has let go of frame world.active
+    pending: _Flight | None = None  # contact lost, not yet for contact_hold
+    touch = (0.0, frames[0].theta, robot.alpha, robot.hook_world().y)  # t, theta1, alpha, hook y at last touch
     t_stop: float | None = None
     theta1_peak = frames[0].theta
     outcome, reason = "timeout", f"reached sim.t_max = {sim.t_max} s"
     n_max = int(math.ceil(sim.t_max / sim.dt))
-    check_every = sim.trace_every
+    next_seat = frames[1].hook_seat_world() if n_frames > 1 else None
 
     for n in range(1, n_max + 1):
         world.step()
@@ -118,14 +130,19 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
 
         if flight is None:  # ---- hanging on frame world.active ----
             if contact.touches(cur.index):
-                last_touch, theta1_at_touch, alpha_at_touch = t, cur.theta, robot.alpha
-            elif t - last_touch >= hold:
-                sw = swings[-1]
-                sw.t_detach, sw.theta1_detach_deg = last_touch, math.degrees(theta1_at_touch)
-                sw.swing_duration = last_touch - sw.t_catch
-                sw.alpha_detach_deg = math.degrees(alpha_at_touch)
-                sw.theta2_min_deg, sw.theta2_max_deg = th2_lo, th2_hi
-                flight = _Flight(cur.index, last_touch, alpha_at_touch)
+                touch = (t, cur.theta, robot.alpha, robot.hook_world().y)
+                pending = None  # a brief loss of contact was a bounce, not a detach
+            else:
+                if pending is None:
+                    pending = _Flight(cur.index, touch[0], touch[2], touch[3] - next_seat.y)
+                pending.observe(t, robot, next_seat, snapped_alpha)
+                if t - touch[0] >= hold:
+                    sw = swings[-1]
+                    sw.t_detach, sw.theta1_detach_deg = touch[0], math.degrees(touch[1])
+                    sw.swing_duration = touch[0] - sw.t_catch
+                    sw.alpha_detach_deg = math.degrees(touch[2])
+                    sw.theta2_min_deg, sw.theta2_max_deg = th2_lo, th2_hi
+                    flight, pending = pending, None
             if flight is None:
                 theta1_peak = max(theta1_peak, cur.theta)
                 if cur.at_stop():
@@ -133,17 +150,19 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                     if t - t_stop >= sim.stop_hold:
                         outcome, reason = "no_detach", (
                             f"hook still on frame {cur.index} {sim.stop_hold} s after it reached its stop "
-                            f"({math.degrees(p.stop_angle):.0f} deg): friction holds it")
+                            f"({math.degrees(p.stop_angle):.0f} deg){contact.holding_note}")
                         break
-                elif cur.theta < theta1_peak - math.radians(TURN_BACK_DEG):
-                    peak = math.degrees(theta1_peak)
-                    if theta1_peak >= p.stop_angle - math.radians(NEAR_STOP_DEG):
-                        outcome, reason = "no_detach", (f"frame {cur.index} reached {peak:.1f} deg, near its stop, and "
-                                                        f"turned back under the robot: the hook never slipped off")
-                    else:
-                        outcome, reason = "stalled", (f"frame {cur.index} turned back at {peak:.1f} deg, short of its "
-                                                      f"stop, with the robot hooked: too little moment imbalance")
-                    break
+                else:
+                    t_stop = None
+                    if cur.theta < theta1_peak - math.radians(TURN_BACK_DEG):
+                        peak = math.degrees(theta1_peak)
+                        if theta1_peak >= p.stop_angle - math.radians(NEAR_STOP_DEG):
+                            outcome, reason = "no_detach", (f"frame {cur.index} reached {peak:.1f} deg, near its stop, "
+                                                            f"and turned back under the robot{contact.holding_note}")
+                        else:
+                            outcome, reason = "stalled", (f"frame {cur.index} turned back at {peak:.1f} deg, short of "
+                                                          f"its stop, with the robot hooked: too little moment imbalance")
+                        break
                 if t - swings[-1].t_catch > sim.swing_timeout:
                     outcome, reason = "stalled", f"swing on frame {cur.index} lasted over {sim.swing_timeout} s"
                     break
@@ -158,28 +177,21 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                                         math.degrees(robot.theta2())))
                     th2_lo = th2_hi = swings[-1].theta2_catch_deg
                     flight, t_stop, theta1_peak = None, None, cur.theta
-                    last_touch, theta1_at_touch, alpha_at_touch = t, cur.theta, robot.alpha
+                    touch = (t, cur.theta, robot.alpha, robot.hook_world().y)
                     if nxt == n_frames - 1:
                         outcome, reason = "completed", f"caught by the last frame ({nxt})"
                         break
+                    next_seat = frames[nxt + 1].hook_seat_world()
                     continue
             else:
                 flight.first_touch = None
-            hook = robot.hook_world()
-            seat = frames[nxt].hook_seat_world()
-            if flight.height is None:
-                flight.height = hook.y - seat.y
-            if flight.t_snap is None and robot.alpha < p.alpha_min + 0.5 * half_range:
-                flight.t_snap = t - flight.t_detach
-            if flight.crossing is None and hook.y < seat.y:
-                flight.crossing = (hook.x - seat.x, robot.alpha)
-                flight.t_cross = t - flight.t_detach
+            flight.observe(t, robot, next_seat, snapped_alpha)
             com = robot.com_world()
             if com.y < world.floor_y(com.x) or t - flight.t_detach > sim.flight_timeout:
                 outcome, reason = _classify_miss(flight, nxt, half_range, p, sim.min_release_height * units.LENGTH)
                 break
 
-        if n % check_every == 0:
+        if n % sim.check_every == 0:
             e = world.energy()
             th2 = robot.theta2()
             if not (math.isfinite(e) and math.isfinite(th2)) or world.max_speed() > p.max_speed:
@@ -188,15 +200,15 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
             max_gain = max(max_gain, e - e0)
             e_min = min(e_min, e)
             max_rise = max(max_rise, e - e_min)
-            if max_rise > sim.energy_tolerance:
-                outcome, reason = "unstable", (f"mechanical energy rose by {max_rise:.3g} J, above "
-                                               f"sim.energy_tolerance = {sim.energy_tolerance} J: numerical error")
+            if max_rise > e_tol:
+                outcome, reason = "unstable", (f"mechanical energy rose by {max_rise:.3g} J, above the tolerance "
+                                               f"{e_tol:.3g} J (sim.energy_tolerance): numerical error")
                 break
-            th2d = math.degrees(th2)
             if flight is None:
+                th2d = math.degrees(th2)
                 th2_lo, th2_hi = min(th2_lo, th2d), max(th2_hi, th2d)
-            if trace:
-                rows.append(_trace_row(world, t, th2, e))
+        if trace and n % sim.trace_every == 0:
+            rows.append(_trace_row(world, t, robot.theta2(), world.energy()))
         if pose_steps and n % pose_steps == 0:
             poses.append((t, *world.pose()))
 
@@ -204,7 +216,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
     if flight is None and swings[-1].theta2_min_deg is None:
         swings[-1].theta2_min_deg, swings[-1].theta2_max_deg = th2_lo, th2_hi
     e_final = world.energy()
-    result = SimResult(
+    return SimResult(
         traversals=traversals, frames=n_frames, outcome=outcome, reason=reason, swings=swings,
         energy=dict(initial=e0, final=e_final, max_gain=max(max_gain, e_final - e0), max_rise=max_rise),
         sim_time=world.t, wall_time=time.perf_counter() - wall0,
@@ -212,7 +224,6 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
         poses=poses if pose_steps else None,
         geometry=world.geometry() if pose_steps else None,
     )
-    return result
 
 
 def _trace_row(world: World, t: float, th2: float, e: float) -> tuple:
@@ -239,9 +250,11 @@ def _classify_miss(flight: _Flight, nxt: int, half_range: float, p, min_release_
     if room < half_range:
         return "missed_catch", (f"{where}: the arm was at {math.degrees(flight.alpha_detach):.0f} deg when the hook "
                                 f"let go, with no swing left to reach frame {nxt} (spring too stiff to bend)")
-    if flight.height is not None and flight.height < min_release_height:
-        return "fell_short", (f"{where}: the hook slipped off only {flight.height * mm:.1f} mm above frame {nxt}'s "
-                              f"handrail, before the frame had lifted the robot (friction too low?)")
+    if flight.height < min_release_height:
+        level = (f"only {flight.height * mm:.1f} mm above" if flight.height >= 0
+                 else f"{-flight.height * mm:.1f} mm below")
+        return "fell_short", (f"{where}: the hook slipped off {level} frame {nxt}'s handrail, before the frame had "
+                              f"lifted the robot high enough")
     if flight.crossing is None:
         return "missed_catch", f"{where}: the hook never came down to frame {nxt}'s handrail"
     dx, alpha_cross = flight.crossing

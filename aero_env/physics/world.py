@@ -2,7 +2,9 @@
 
 Always built: the row of :class:`SwingFrame` s, the :class:`Robot`, its leaf spring (the
 scene's spring law picks the part), the :class:`HookContact` (the scene's friction law picks
-its callback) and the floor. Built only when the scene names it: :class:`AirDrag`.
+its callback) and the floor. Built only when the scene names it: :class:`AirDrag`. The
+``hook: pin`` scene swaps robot, spring and contact for the two-link model's parts
+(:class:`RigidRobot`, :class:`NoSpring`, :class:`PinnedHook`).
 
 Frames are simulated only inside a live window around the robot's frame: the one it just
 left (still turning to its stopper), its own, and ``effects.live_frames`` ahead. Frames
@@ -18,9 +20,9 @@ from .. import units
 from ..config import Config
 from .drag import AirDrag
 from .engine_params import EngineParams, to_engine
-from .hook_contact import HookContact, friction_law
-from .leaf_spring import SPRING_LAWS
-from .robot import Robot
+from .hook_contact import HookContact, PinnedHook, friction_law
+from .leaf_spring import SPRING_LAWS, NoSpring
+from .robot import RigidRobot, Robot
 from .swing_frame import FLOOR, SwingFrame
 
 
@@ -37,13 +39,17 @@ class World:
         self.space = space
 
         self.frames = [SwingFrame(i, p) for i in range(p.frames)]
-        self.robot = Robot(p)
+        if fx.hook == "pin":  # the two-link model built in pymunk
+            self.robot = RigidRobot(p)
+            self.spring = NoSpring()
+            self.contact = PinnedHook(self.robot, self.frames[0])
+        else:
+            self.robot = Robot(p)
+            self.spring = SPRING_LAWS[fx.spring_law](self.robot, p.spring_k, p.alpha_min)
+            self.contact = HookContact(self.robot.tip, self.frames,
+                                       friction_law(fx.friction, p.mu_s, p.mu_k, p.slip_speed))
         self.robot.add_to(space)
-        self.spring = SPRING_LAWS[fx.spring_law](self.robot, p.spring_k, p.alpha_min)
         self.spring.add_to(space)
-        self.contact = HookContact(self.robot.tip, self.frames,
-                                   friction_law(fx.friction, p.mu_s, p.mu_k, p.slip_speed))
-        self.contact.add_to(space)
         self.drag = AirDrag(self.frames, self.robot, p) if fx.drag else None
         self.live_ahead = fx.live_frames
         # The floor follows the row's incline, floor_drop below the frame axes.
@@ -57,6 +63,7 @@ class World:
         self.active = -1
         self.set_active(0)
         self.robot.place_hanging(self.frames[0].hook_seat_world(), p.theta2_start, p.alpha_max)
+        self.contact.add_to(space)  # after placing: a pin joint anchors where the bodies are
         self.t = 0.0
         self.steps = 0
 
@@ -118,6 +125,5 @@ class World:
     def pose(self) -> tuple:
         """Current pose in SI: frame angles, torso position and angle, arm angle."""
         s = 1.0 / units.LENGTH
-        t = self.robot.torso
-        return ([f.body.angle for f in self.frames], (t.position.x * s, t.position.y * s), t.angle,
-                self.robot.arm.angle)
+        axle, torso_angle, arm_angle = self.robot.pose()
+        return [f.body.angle for f in self.frames], (axle.x * s, axle.y * s), torso_angle, arm_angle
