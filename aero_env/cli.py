@@ -1,6 +1,7 @@
 """The ``aero-env`` command line.
 
     aero-env simulate CONFIG [--set KEY=VALUE ...] [--json] [--trace FILE.csv] [--plot FILE.png] [--gif FILE.gif]
+    aero-env compare CONFIG [--set KEY=VALUE ...] [--json] [--plot FILE.png] [--domain-map FILE.png]
     aero-env schema          # every config key with its default, unit, range and meaning
 """
 
@@ -71,6 +72,50 @@ def _table(r) -> str:
     return "\n".join(lines)
 
 
+def cmd_compare(args) -> int:
+    from . import compare as cmp
+
+    cfg = _load(args)
+    summary, runs = cmp.compare(cfg)
+    if args.plot:
+        cmp.plot_comparison(runs, args.plot)
+    if args.domain_map:
+        dm = cmp.domain_map(cfg, masses=_geom(args.map_masses), ratios=_lin(args.map_ratios))
+        cmp.plot_domain_map(dm, args.domain_map, prototype=(cfg.design.m2, cfg.design.m3 * cfg.design.La / (cfg.design.m2 * cfg.design.Lb)))
+        summary["domain_map"] = dm
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        print(f"first swing from theta1 = {summary['start']['theta1_deg']:.1f} deg, theta2 = "
+              f"{summary['start']['theta2_deg']:.1f} deg, compared up to the MBD's detach angle "
+              f"{summary['detach_angle_deg']:.1f} deg")
+        print(f"{'model':>13} {'t to angle':>10} {'with drag':>10} {'theta1 where theta1 changes sign':>34} "
+              f"{'drag on th1dd':>13}")
+        for name, m in summary["models"].items():
+            signs = ", ".join(f"{a:.0f}" for a in m["alpha1_sign_changes_deg"]) or "-"
+            print(f"{name:>13} {_fmt(m['time_to_detach_angle'], '10.3f')} "
+                  f"{_fmt(m['time_to_detach_angle_with_drag'], '10.3f')} {signs:>34} "
+                  f"{100 * m['drag_alpha1_change']['relative']:12.2f}%")
+        for name, path in (("plot", args.plot), ("domain map", args.domain_map)):
+            if path:
+                print(f"wrote {name}: {path}")
+    return 0
+
+
+def _geom(spec):
+    import numpy as np
+
+    lo, hi, n = spec
+    return np.geomspace(lo, hi, int(n))
+
+
+def _lin(spec):
+    import numpy as np
+
+    lo, hi, n = spec
+    return np.linspace(lo, hi, int(n))
+
+
 def cmd_schema(_args) -> int:
     rows = schema_rows()
     print("| key | default | unit | allowed | meaning |")
@@ -91,6 +136,17 @@ def build_parser() -> argparse.ArgumentParser:
     sp.add_argument("--plot", metavar="FILE.png", help="plot theta1 and theta2 against time (the paper's Fig. 40)")
     sp.add_argument("--gif", metavar="FILE.gif", help=f"animate the machine ({GIF_SLOWMO}x slow motion)")
     sp.set_defaults(func=cmd_simulate)
+    cp = sub.add_parser("compare", help="quasi-static vs two-link vs MBD on one scene (the paper's Figs. 40, 42, 43)")
+    cp.add_argument("config", help="scene YAML (e.g. configs/paper.yaml)")
+    cp.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a config value (repeatable)")
+    cp.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
+    cp.add_argument("--plot", metavar="FILE.png", help="draw theta, omega and theta'' of the three models")
+    cp.add_argument("--domain-map", metavar="FILE.png", help="sweep robot mass and frame energy (the paper's Fig. 29)")
+    cp.add_argument("--map-masses", nargs=3, type=float, default=(0.004, 0.06, 7), metavar=("LO", "HI", "N"),
+                    help="robot masses m2 for the map, kg, log-spaced (default 0.004 0.06 7)")
+    cp.add_argument("--map-ratios", nargs=3, type=float, default=(0.6, 0.95, 8), metavar=("LO", "HI", "N"),
+                    help="counterbalance moment / robot moment (m3·La)/(m2·Lb) for the map (default 0.6 0.95 8)")
+    cp.set_defaults(func=cmd_compare)
     sc = sub.add_parser("schema", help="print the config schema as a Markdown table")
     sc.set_defaults(func=cmd_schema)
     return ap

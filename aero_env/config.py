@@ -43,7 +43,7 @@ class Design:
 
     La: float = spec(0.0483, "m", "axis to counterbalance, along the frame", 0.0, 1.0, lo_open=True)
     Lb: float = spec(0.0517, "m", "axis to handrail (the hook's seat)", 0.0, 1.0, lo_open=True)
-    Lc: float = spec(0.03, "m", "two-link model: joint (hook) to robot centre; sets I2 with Ld", 0.0, 1.0, lo_open=True)
+    Lc: float = spec(0.03, "m", "two-link model: joint (hook) to robot centre; sets I2 with Ld", 0.0, 1.0)
     Ld: float = spec(0.06, "m", "two-link model: joint (hook) to bottom of torso; sets I2 with Lc", 0.0, 2.0, lo_open=True)
     h: float = spec(0.005, "m", "counterbalance offset normal to the frame", -0.5, 0.5)
     m1: float = spec(0.004, "kg", "swing frame mass (I1 = 2*m1/3*(La^2+Lb^2-La*Lb))", 0.0, 10.0, lo_open=True)

@@ -1,0 +1,68 @@
+"""The three-model comparison on the prototype and a small domain map."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from aero_env import compare
+
+from .conftest import PAPER
+
+
+@pytest.fixture(scope="module")
+def summary(paper_cfg):
+    return compare.compare(paper_cfg)[0]
+
+
+def test_all_three_models_reach_the_mbd_detach_angle_in_about_the_same_time(summary):
+    m = summary["models"]
+    mbd = m["mbd"]["time_to_detach_angle"]
+    assert 150.0 <= summary["detach_angle_deg"] <= 175.0
+    assert m["two_link"]["time_to_detach_angle"] == pytest.approx(mbd, rel=0.03)  # measured 0.7%
+    assert m["quasi_static"]["time_to_detach_angle"] == pytest.approx(mbd, rel=0.10)  # measured 5.8%
+    # the quasi-static model, without the robot's swing, gets there first
+    assert m["quasi_static"]["time_to_detach_angle"] < m["two_link"]["time_to_detach_angle"]
+
+
+def test_theta1_acceleration_sign_changes(summary):
+    m = summary["models"]
+    assert m["quasi_static"]["alpha1_sign_changes_deg"] == [pytest.approx(125.3, abs=0.5)]
+    assert len(m["two_link"]["alpha1_sign_changes_deg"]) == 1
+    # the MBD goes +, -, + (the paper's Fig. 43): negative after ~110 deg, positive again as the hook slides
+    mbd = m["mbd"]["alpha1_sign_changes_deg"]
+    assert len(mbd) >= 2 and mbd[0] < 125.0 < mbd[-1]
+
+
+def test_drag_changes_theta1_acceleration_by_a_few_percent_at_most(summary):
+    for name, m in summary["models"].items():
+        assert m["drag_alpha1_change"]["relative"] < 0.05, name
+        assert m["time_to_detach_angle_with_drag"] >= m["time_to_detach_angle"] - 1e-3, name
+
+
+def test_domain_map_marks_where_models_hold(paper_cfg, tmp_path):
+    dm = compare.domain_map(paper_cfg, masses=[0.006, 0.03], ratios=[0.6, 0.9])
+    pts = {(round(p["m2"], 3), p["ratio"]): p for p in dm["points"]}
+    assert len(pts) == 4
+    for m2 in (0.006, 0.03):
+        # a counterbalance with too little moment cannot lift the robot: nothing swings to detach
+        assert pts[(m2, 0.6)]["mbd_outcome"] == "stalled"
+        # near balance the MBD robot traverses and the two-link model is within 10%
+        heavy_ok = pts[(m2, 0.9)]
+        assert heavy_ok["mbd_traverses"] and heavy_ok["two_link_within"]
+        assert heavy_ok["two_link_error"] < heavy_ok["quasi_static_error"]
+    out = tmp_path / "map.png"
+    compare.plot_domain_map(dm, out, prototype=(0.00771, 0.87))
+    assert out.stat().st_size > 10_000
+
+
+def test_compare_cli_json(tmp_path):
+    plot = tmp_path / "c.png"
+    out = subprocess.run([sys.executable, "-m", "aero_env.cli", "compare", str(PAPER), "--json", "--plot", str(plot)],
+                         check=True, capture_output=True, text=True).stdout
+    doc = json.loads(out)
+    assert set(doc["models"]) == {"mbd", "two_link", "quasi_static"}
+    for m in doc["models"].values():
+        assert {"time_to_detach_angle", "alpha1_sign_changes_deg", "drag_alpha1_change"} <= set(m)
+    assert plot.stat().st_size > 10_000
