@@ -125,21 +125,24 @@ def cmd_schema(_args) -> int:
     return 0
 
 
-def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="aero-env", description="The paper-craft aerial acrobat robot, simulated.")
-    sub = ap.add_subparsers(dest="command", required=True)
-    sp = sub.add_parser("simulate", help="run a scene along its row of swing frames")
+def _scene_command(sub, name: str, help_text: str) -> argparse.ArgumentParser:
+    """A subcommand that reads a scene config, with its overrides and a JSON switch."""
+    sp = sub.add_parser(name, help=help_text)
     sp.add_argument("config", help="scene YAML (e.g. configs/paper.yaml)")
     sp.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a config value (repeatable)")
     sp.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
+    return sp
+
+
+def build_parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog="aero-env", description="The paper-craft aerial acrobat robot, simulated.")
+    sub = ap.add_subparsers(dest="command", required=True)
+    sp = _scene_command(sub, "simulate", "run a scene along its row of swing frames")
     sp.add_argument("--trace", metavar="FILE.csv", help="write the time trace as CSV")
     sp.add_argument("--plot", metavar="FILE.png", help="plot theta1 and theta2 against time (the paper's Fig. 40)")
     sp.add_argument("--gif", metavar="FILE.gif", help=f"animate the machine ({GIF_SLOWMO}x slow motion)")
     sp.set_defaults(func=cmd_simulate)
-    cp = sub.add_parser("compare", help="quasi-static vs two-link vs MBD on one scene (the paper's Figs. 40, 42, 43)")
-    cp.add_argument("config", help="scene YAML (e.g. configs/paper.yaml)")
-    cp.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a config value (repeatable)")
-    cp.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
+    cp = _scene_command(sub, "compare", "quasi-static vs two-link vs MBD on one scene (the paper's Figs. 40, 42, 43)")
     cp.add_argument("--plot", metavar="FILE.png", help="draw theta, omega and theta'' of the three models")
     cp.add_argument("--domain-map", metavar="FILE.png", help="sweep robot mass and frame energy (the paper's Fig. 29)")
     cp.add_argument("--map-masses", nargs=3, type=float, default=(0.004, 0.06, 7), metavar=("LO", "HI", "N"),

@@ -10,29 +10,15 @@ within 10%, over robot mass and the frame's available energy.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-
 import numpy as np
 
 from .config import Config
 from .models import quasi_static, two_link
+from .models.two_link import SwingResult
 from .physics import simulate
 
 FALLBACK_ANGLE_DEG = 150.0  # compared up to here when the MBD never lets go
 SMOOTH_S = 0.01  # the MBD's theta1'' is a numerical derivative: averaged over 10 ms
-
-
-@dataclass
-class ModelRun:
-    name: str
-    t: np.ndarray
-    theta1: np.ndarray
-    theta2: np.ndarray
-    omega1: np.ndarray
-    omega2: np.ndarray
-    alpha1: np.ndarray
-    alpha2: np.ndarray
-    t_to_angle: float | None
 
 
 def _first_time(t, theta1, angle) -> float | None:
@@ -50,7 +36,7 @@ def _smooth(x, n):
     return np.convolve(np.pad(x, (n // 2, n - 1 - n // 2), mode="edge"), kernel, mode="valid")
 
 
-def mbd_first_swing(cfg: Config, drag: bool = False) -> tuple[ModelRun, float, str]:
+def mbd_first_swing(cfg: Config, drag: bool = False) -> tuple[SwingResult, float, str]:
     """The pymunk run's first swing (to its detach, or to 150 deg), the compare angle (rad) and the
     outcome of its first transfer."""
     run_cfg = cfg.replace({"scene.frames": 2, "scene.effects.drag": drag, "sim.trace_every": 1})
@@ -67,21 +53,20 @@ def mbd_first_swing(cfg: Config, drag: bool = False) -> tuple[ModelRun, float, s
     a2 = _smooth(np.gradient(tr["omega2"], t), n)[keep]
     first = (tr["t"] <= t_end) & (tr["frame"] == 0)
     t_angle = s0.swing_duration if s0.t_detach is not None else _first_time(t[first], tr["theta1"][first], angle)
-    run = ModelRun("mbd", t[keep], tr["theta1"][keep], tr["theta2"][keep], tr["omega1"][keep], tr["omega2"][keep],
-                   a1, a2, t_angle)
+    run = SwingResult(t[keep], tr["theta1"][keep], tr["theta2"][keep], tr["omega1"][keep], tr["omega2"][keep],
+                      a1, a2, t_angle)
     return run, angle, r.outcome
 
 
-def analytical(cfg: Config, theta2_0: float, angle: float, drag: bool = False) -> tuple[ModelRun, ModelRun]:
+def analytical(cfg: Config, theta2_0: float, angle: float, drag: bool = False) -> tuple[SwingResult, SwingResult]:
     d = cfg.design
     th0 = math.radians(d.rest_angle_deg)
     tl = two_link.simulate(d, th0, theta2_0, t_end=3.0, until_theta1=angle, drag=drag)
     qs = quasi_static.simulate(d, th0, t_end=3.0, until_theta1=angle, drag=drag)
-    return (ModelRun("quasi_static", qs.t, qs.theta1, qs.theta2, qs.omega1, qs.omega2, qs.alpha1, qs.alpha2, qs.t_until),
-            ModelRun("two_link", tl.t, tl.theta1, tl.theta2, tl.omega1, tl.omega2, tl.alpha1, tl.alpha2, tl.t_until))
+    return qs, tl
 
 
-def sign_changes_deg(run: ModelRun) -> list[float]:
+def sign_changes_deg(run: SwingResult) -> list[float]:
     """theta1 (deg) where theta1'' changes sign, in order."""
     a, th = run.alpha1, run.theta1
     out = []
@@ -90,7 +75,7 @@ def sign_changes_deg(run: ModelRun) -> list[float]:
     return out
 
 
-def drag_effect(plain: ModelRun, dragged: ModelRun) -> dict:
+def drag_effect(plain: SwingResult, dragged: SwingResult) -> dict:
     """Largest change drag makes to theta1'' at the same theta1, absolute and relative to max|theta1''|."""
     lo = max(plain.theta1.min(), dragged.theta1.min())
     hi = min(plain.theta1.max(), dragged.theta1.max())
@@ -117,8 +102,8 @@ def compare(cfg: Config) -> tuple[dict, dict]:
     summary = dict(
         start=dict(theta1_deg=cfg.design.rest_angle_deg, theta2_deg=cfg.scene.theta2_start_deg),
         detach_angle_deg=math.degrees(angle),
-        models={name: dict(time_to_detach_angle=plain.t_to_angle,
-                           time_to_detach_angle_with_drag=dragged.t_to_angle,
+        models={name: dict(time_to_detach_angle=plain.t_until,
+                           time_to_detach_angle_with_drag=dragged.t_until,
                            alpha1_sign_changes_deg=sign_changes_deg(plain),
                            drag_alpha1_change=drag_effect(plain, dragged))
                 for name, (plain, dragged) in runs.items()},
@@ -202,16 +187,16 @@ def domain_map(cfg: Config, masses=None, ratios=None, tolerance: float = 0.10) -
                              "design.spring_k": d.spring_k * float(m2) / d.m2})
             mbd, angle, outcome = mbd_first_swing(c)
             qs, tl = analytical(c, math.radians(c.scene.theta2_start_deg), angle)
-            t_ref = mbd.t_to_angle
+            t_ref = mbd.t_until
             point = dict(m2=float(m2), m3=float(m3), ratio=float(ratio), energy=available_energy(c),
                          mbd_time=t_ref, detach_angle_deg=math.degrees(angle), mbd_outcome=outcome,
                          mbd_traverses=outcome == "completed")
-            for run in (qs, tl):
-                err = (abs(run.t_to_angle - t_ref) / t_ref
-                       if t_ref is not None and run.t_to_angle is not None else None)
-                point[f"{run.name}_time"] = run.t_to_angle
-                point[f"{run.name}_error"] = err  # relative to the MBD's time; None if either never gets there
-                point[f"{run.name}_within"] = err is not None and err <= tolerance
+            for name, run in (("quasi_static", qs), ("two_link", tl)):
+                err = (abs(run.t_until - t_ref) / t_ref
+                       if t_ref is not None and run.t_until is not None else None)
+                point[f"{name}_time"] = run.t_until
+                point[f"{name}_error"] = err  # relative to the MBD's time; None if either never gets there
+                point[f"{name}_within"] = err is not None and err <= tolerance
             points.append(point)
     return dict(tolerance=tolerance, points=points)
 

@@ -6,13 +6,11 @@ import numpy as np
 import pymunk
 import pytest
 
-from aero_env.config import load_config
 from aero_env.physics import World, simulate
 from aero_env.physics.drag import DragStrip
-from aero_env.physics.leaf_spring import LinearLeafSpring, StiffeningLeafSpring
+from aero_env.physics.leaf_spring import LinearLeafSpring
 from aero_env.physics.robot import Robot
 
-from .conftest import PAPER
 
 
 # ---------------------------------------------------------------- the prototype

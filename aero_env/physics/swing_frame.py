@@ -14,7 +14,6 @@ back face and off its end: that is the detach (brief, steps 3-4).
 
 from __future__ import annotations
 
-import math
 
 import pymunk
 
