@@ -66,3 +66,10 @@ def test_compare_cli_json(tmp_path):
     for m in doc["models"].values():
         assert {"time_to_detach_angle", "alpha1_sign_changes_deg", "drag_alpha1_change"} <= set(m)
     assert plot.stat().st_size > 10_000
+
+
+def test_mbd_accelerations_have_opposite_signs_over_part_of_the_swing(paper_cfg):
+    run, _, outcome = compare.mbd_first_swing(paper_cfg)
+    assert outcome == "completed"
+    opposite = (run.alpha1 * run.alpha2) < 0
+    assert 0.1 < opposite.mean() < 0.9  # the paper's key finding holds in the pymunk world too
