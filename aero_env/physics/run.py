@@ -191,6 +191,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                 outcome, reason = _classify_miss(flight, nxt, half_range, p, sim.min_release_height * units.LENGTH)
                 break
 
+        e = None
         if n % sim.check_every == 0:
             e = world.energy()
             th2 = robot.theta2()
@@ -208,7 +209,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                 th2d = math.degrees(th2)
                 th2_lo, th2_hi = min(th2_lo, th2d), max(th2_hi, th2d)
         if trace and n % sim.trace_every == 0:
-            rows.append(_trace_row(world, t, robot.theta2(), world.energy()))
+            rows.append(_trace_row(world, t, robot.theta2(), world.energy() if e is None else e))
         if pose_steps and n % pose_steps == 0:
             poses.append((t, *world.pose()))
 
