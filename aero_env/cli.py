@@ -73,6 +73,8 @@ def _table(r) -> str:
 
 
 def cmd_compare(args) -> int:
+    import numpy as np
+
     from . import compare as cmp
 
     cfg = _load(args)
@@ -80,8 +82,10 @@ def cmd_compare(args) -> int:
     if args.plot:
         cmp.plot_comparison(runs, args.plot)
     if args.domain_map:
-        dm = cmp.domain_map(cfg, masses=_geom(args.map_masses), ratios=_lin(args.map_ratios))
-        cmp.plot_domain_map(dm, args.domain_map, prototype=(cfg.design.m2, cfg.design.m3 * cfg.design.La / (cfg.design.m2 * cfg.design.Lb)))
+        masses = np.geomspace(*args.map_masses[:2], int(args.map_masses[2])) if args.map_masses else None
+        ratios = np.linspace(*args.map_ratios[:2], int(args.map_ratios[2])) if args.map_ratios else None
+        dm = cmp.domain_map(cfg, masses=masses, ratios=ratios)
+        cmp.plot_domain_map(dm, args.domain_map, prototype=(cfg.design.m2, cmp.moment_ratio(cfg.design)))
         summary["domain_map"] = dm
     if args.json:
         print(json.dumps(summary, indent=2))
@@ -100,20 +104,6 @@ def cmd_compare(args) -> int:
             if path:
                 print(f"wrote {name}: {path}")
     return 0
-
-
-def _geom(spec):
-    import numpy as np
-
-    lo, hi, n = spec
-    return np.geomspace(lo, hi, int(n))
-
-
-def _lin(spec):
-    import numpy as np
-
-    lo, hi, n = spec
-    return np.linspace(lo, hi, int(n))
 
 
 def cmd_schema(_args) -> int:
@@ -145,10 +135,11 @@ def build_parser() -> argparse.ArgumentParser:
     cp = _scene_command(sub, "compare", "quasi-static vs two-link vs MBD on one scene (the paper's Figs. 40, 42, 43)")
     cp.add_argument("--plot", metavar="FILE.png", help="draw theta, omega and theta'' of the three models")
     cp.add_argument("--domain-map", metavar="FILE.png", help="sweep robot mass and frame energy (the paper's Fig. 29)")
-    cp.add_argument("--map-masses", nargs=3, type=float, default=(0.004, 0.06, 7), metavar=("LO", "HI", "N"),
-                    help="robot masses m2 for the map, kg, log-spaced (default 0.004 0.06 7)")
-    cp.add_argument("--map-ratios", nargs=3, type=float, default=(0.6, 0.95, 8), metavar=("LO", "HI", "N"),
-                    help="counterbalance moment / robot moment (m3·La)/(m2·Lb) for the map (default 0.6 0.95 8)")
+    cp.add_argument("--map-masses", nargs=3, type=float, metavar=("LO", "HI", "N"),
+                    help="robot masses m2 for the map, kg, log-spaced (default: compare.MAP_MASSES, 4-60 g, 7)")
+    cp.add_argument("--map-ratios", nargs=3, type=float, metavar=("LO", "HI", "N"),
+                    help="counterbalance moment / robot moment (m3·La)/(m2·Lb) for the map "
+                         "(default: compare.MAP_RATIOS, 0.6-0.95, 8)")
     cp.set_defaults(func=cmd_compare)
     sc = sub.add_parser("schema", help="print the config schema as a Markdown table")
     sc.set_defaults(func=cmd_schema)

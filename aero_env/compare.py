@@ -10,6 +10,7 @@ within 10%, over robot mass and the frame's available energy.
 from __future__ import annotations
 
 import math
+
 import numpy as np
 
 from .config import Config
@@ -18,6 +19,8 @@ from .models.two_link import SwingResult
 from .physics import simulate
 
 FALLBACK_ANGLE_DEG = 150.0  # compared up to here when the MBD never lets go
+MAP_MASSES = (0.004, 0.06, 7)  # robot mass m2 for the domain map: kg, low, high, count (log-spaced)
+MAP_RATIOS = (0.6, 0.95, 8)  # moment ratio (m3·La)/(m2·Lb) for the map: low, high, count
 SMOOTH_S = 0.01  # the MBD's theta1'' is a numerical derivative: averaged over 10 ms
 
 
@@ -160,6 +163,11 @@ def plot_comparison(runs: dict, path, title: str = "") -> None:
     plt.close(fig)
 
 
+def moment_ratio(d) -> float:
+    """The counterbalance's moment over the robot's, (m3·La)/(m2·Lb): the domain map's second axis."""
+    return d.m3 * d.La / (d.m2 * d.Lb)
+
+
 def available_energy(cfg: Config, to_deg: float = FALLBACK_ANGLE_DEG) -> float:
     """Work (J) the quasi-static moment of Eq. (1) does from the rest angle to ``to_deg``: the energy the
     frame makes available to turn with the robot."""
@@ -177,8 +185,8 @@ def domain_map(cfg: Config, masses=None, ratios=None, tolerance: float = 0.10) -
     ``tolerance`` of the MBD's.
     """
     d = cfg.design
-    masses = np.geomspace(0.004, 0.06, 7) if masses is None else np.asarray(masses)
-    ratios = np.linspace(0.55, 0.95, 6) if ratios is None else np.asarray(ratios)
+    masses = np.geomspace(*MAP_MASSES) if masses is None else np.asarray(masses)
+    ratios = np.linspace(*MAP_RATIOS) if ratios is None else np.asarray(ratios)
     points = []
     for m2 in masses:
         for ratio in ratios:

@@ -25,6 +25,8 @@ from typing import Any, Mapping
 
 import yaml
 
+from .units import GRAVITY
+
 
 class ConfigError(ValueError):
     """A config value is missing, unknown, of the wrong type or out of range."""
@@ -225,8 +227,8 @@ def _check_design(d: Design) -> None:
                           f"rest_angle_deg = {d.rest_angle_deg!r} by 10 to 270 deg, allowed "
                           f"[{d.rest_angle_deg + 10}, {d.rest_angle_deg + 270}]")
     x_max = max(d.La, d.Lb)
-    if abs(d.dT) > d.m1 * 9.81 * x_max:
-        lim = d.m1 * 9.81 * x_max
+    if abs(d.dT) > d.m1 * GRAVITY * x_max:
+        lim = d.m1 * GRAVITY * x_max
         raise ConfigError(f"design.dT = {d.dT!r}: the frame's own moment would put its centre of mass beyond its "
                           f"ends, allowed [{-lim:.3g}, {lim:.3g}] N·m (m1·g·max(La, Lb))")
     if d.arm_mass >= d.m2:

@@ -11,6 +11,8 @@ only the result builders convert back; nothing else multiplies by these factors.
 
 from __future__ import annotations
 
+GRAVITY = 9.81  # m/s², the one value of g used by the configs, the world and the models
+
 LENGTH = 1e3  # engine length units (mm) per metre
 MASS = 1e3  # engine mass units (g) per kilogram
 TIME = 1.0  # engine time units per second

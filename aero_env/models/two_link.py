@@ -37,8 +37,7 @@ from scipy.integrate import solve_ivp
 from ..config import Design
 from ..drag_law import strip_drag
 from ..inertia import counterbalance_inertia, frame_inertia, robot_inertia
-
-G = 9.81
+from ..units import GRAVITY as G
 
 
 @dataclass

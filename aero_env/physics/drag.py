@@ -35,6 +35,7 @@ class DragStrip:
         cog = b.local_to_world(b.center_of_gravity)
         # moment about the strip start (normal force times distance along the strip), moved to the cog
         return normal * f, m + (p0w - cog).cross(normal) * f
+
     def _update_velocity(self, body, gravity, damping, dt):
         f, t = self.force_and_torque()
         body.force += f

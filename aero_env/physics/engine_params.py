@@ -15,7 +15,6 @@ from .. import units
 from ..config import Config, ConfigError
 from ..inertia import frame_inertia, robot_inertia
 
-GRAVITY_SI = 9.81
 
 
 @dataclass(frozen=True)
@@ -105,7 +104,7 @@ def to_engine(cfg: Config) -> EngineParams:
             f"design.Ld = {d.Ld!r}: the robot inertia I2 = m2/3*(Ld^2+Ld*Lc+Lc^2) is smaller than its parts "
             f"(arm_length, torso_com) allow; raise Ld or Lc, or shorten arm_length/torso_com")
     # Eq. (1) adds +dT·cos(theta1); a centre of mass at x along the frame gives -m1·g·x·cos(theta1).
-    frame_com_x = -(d.dT / (d.m1 * GRAVITY_SI)) * L
+    frame_com_x = -(d.dT / (d.m1 * units.GRAVITY)) * L
 
     return EngineParams(
         La=d.La * L, Lb=d.Lb * L, h=d.h * L,
@@ -123,7 +122,7 @@ def to_engine(cfg: Config) -> EngineParams:
         frame_width=d.frame_width * L, robot_width=d.robot_width * L,
         frames=s.frames, pitch=s.pitch * L, rise=s.rise * L, theta2_start=rad(s.theta2_start_deg),
         floor_drop=s.floor_drop * L,
-        gravity=GRAVITY_SI * units.ACCELERATION, dt=sim.dt * units.TIME, iterations=sim.iterations,
+        gravity=units.GRAVITY * units.ACCELERATION, dt=sim.dt * units.TIME, iterations=sim.iterations,
         collision_slop=sim.collision_slop * L, slip_speed=sim.slip_speed * units.VELOCITY,
         max_speed=sim.max_speed * units.VELOCITY,
     )

@@ -105,7 +105,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
     hold = sim.contact_hold
     half_range = 0.5 * (p.alpha_max - p.alpha_min)
     snapped_alpha = p.alpha_min + half_range
-    e_tol = sim.energy_tolerance * (d.m2 + d.m3) * 9.81 * (d.La + d.Lb)
+    e_tol = sim.energy_tolerance * (d.m2 + d.m3) * units.GRAVITY * (d.La + d.Lb)
 
     rows: list[tuple] = []
     poses: list = []
