@@ -13,10 +13,6 @@ import sys
 
 from .config import ConfigError, load_config, parse_override, schema_rows
 
-GIF_FPS = 30
-GIF_SLOWMO = 4  # the animation plays at a quarter of real speed: a swing lasts about 0.4-0.6 s
-
-
 def _load(args):
     overrides = dict(parse_override(s) for s in args.set or [])
     return load_config(args.config, overrides)
@@ -24,10 +20,11 @@ def _load(args):
 
 def cmd_simulate(args) -> int:
     from .physics import simulate
+    from .render import pose_interval
 
     cfg = _load(args)
     want_trace = bool(args.trace or args.plot)
-    result = simulate(cfg, trace=want_trace, poses_every=1.0 / (GIF_FPS * GIF_SLOWMO) if args.gif else None)
+    result = simulate(cfg, trace=want_trace, poses_every=pose_interval(cfg.env.render_slowmo) if args.gif else None)
     if args.trace:
         from .render import write_trace_csv
 
@@ -39,7 +36,7 @@ def cmd_simulate(args) -> int:
     if args.gif:
         from .render import write_gif
 
-        write_gif(result, args.gif, fps=GIF_FPS)
+        write_gif(result, args.gif)
     if args.json:
         print(json.dumps(result.to_json_dict(), indent=2))
     else:
@@ -130,7 +127,7 @@ def build_parser() -> argparse.ArgumentParser:
     sp = _scene_command(sub, "simulate", "run a scene along its row of swing frames")
     sp.add_argument("--trace", metavar="FILE.csv", help="write the time trace as CSV")
     sp.add_argument("--plot", metavar="FILE.png", help="plot theta1 and theta2 against time (the paper's Fig. 40)")
-    sp.add_argument("--gif", metavar="FILE.gif", help=f"animate the machine ({GIF_SLOWMO}x slow motion)")
+    sp.add_argument("--gif", metavar="FILE.gif", help="animate the machine (env.render_slowmo times slower than real time)")
     sp.set_defaults(func=cmd_simulate)
     cp = _scene_command(sub, "compare", "quasi-static vs two-link vs MBD on one scene (the paper's Figs. 40, 42, 43)")
     cp.add_argument("--plot", metavar="FILE.png", help="draw theta, omega and theta'' of the three models")

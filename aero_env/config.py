@@ -8,6 +8,17 @@ A config has three sections, all in SI units with the paper's symbols:
   switches on (each effect is a part the physics builder adds only when named).
 * ``sim``: time step, solver, tolerances and time limits.
 
+Four more sections describe the design problem that the Gymnasium environment poses
+(the physics never reads them):
+
+* ``tunable``: the action space, a list of ``{name, low, high, scale, linked}``; one action
+  dimension per entry, mapped onto [low, high] (linear or log).
+* ``context``: the observation, a list of ``{name, low, high}``; what a designer knows of the
+  scene. Drawn uniformly at each reset; without low/high it stays at the config's value.
+* ``tolerance``: a list of ``{name, relative, absolute}``; manufacturing error the designer does
+  not know, drawn at each reset and applied to the built machine.
+* ``env``: episode options (out-of-box actions, reward shaping, rendering).
+
 Every field is declared once below with its default, unit, allowed range and meaning;
 the README's schema table is generated from the same declarations (``aero-env schema``).
 ``load_config(path, overrides={"design.m2": 0.008})`` returns a validated, immutable
@@ -124,26 +135,123 @@ class Sim:
 
 
 @dataclass(frozen=True)
+class EnvOptions:
+    """How the design environment treats actions, rewards and rendering."""
+
+    action_out_of_box: str = spec("error", "-", "an action outside [-1, 1]: error names the dimension; clip clips it "
+                                  "(NaN is always an error)", choices=("error", "clip"))
+    reward_shaping: float = spec(0.0, "-", "partial credit for the failed transfer: reward = traversals + "
+                                 "reward_shaping·max(0, 1 - miss_distance/pitch); 0 = off", 0.0, 0.99)
+    render_width: int = spec(720, "px", "width of rendered frames", 64, 4096)
+    render_height: int = spec(300, "px", "height of rendered frames", 64, 4096)
+    render_slowmo: float = spec(4.0, "-", "rendered animations play this many times slower than real time",
+                                0.1, 100.0)
+
+
+def _item(doc: str, unit: str = "-", default: Any = None):
+    return field(default=default, metadata=dict(unit=unit, doc=doc, lo=None, hi=None, lo_open=False, choices=None))
+
+
+@dataclass(frozen=True)
+class Tunable:
+    """One action dimension: a design or scene number and the range the action maps onto."""
+
+    name: str = _item("dotted key of a real-valued design or scene field, e.g. design.m3")
+    low: float = _item("value at action -1", "field's")
+    high: float = _item("value at action +1 (above low)", "field's")
+    scale: str = _item("linear, or log (geometric; low > 0)", default="linear")
+    linked: tuple = _item("keys scaled by the same factor as this one, keeping their ratio to it "
+                          "(design.mu_k with design.mu_s keeps the friction pair's ratio)", default=())
+
+
+@dataclass(frozen=True)
+class ContextRange:
+    """One observed scene number, drawn uniformly from [low, high] at reset (fixed when both are absent)."""
+
+    name: str = _item("dotted key of a real-valued design or scene field, e.g. scene.rise")
+    low: float | None = _item("lowest value drawn (absent: the config's value)", "field's")
+    high: float | None = _item("highest value drawn (absent: the config's value)", "field's")
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """Manufacturing error on one number: value·(1 + relative·u) + absolute·u, u ~ U(-1, 1) at reset."""
+
+    name: str = _item("dotted key of a real-valued design or scene field, e.g. design.m3")
+    relative: float = _item("± fraction of the value, in [0, 0.5]", default=0.0)
+    absolute: float = _item("± in the field's unit, >= 0", "field's", default=0.0)
+
+
+# The default design problem: the frame's counterbalance (m3, h, La), the leaf spring, and the
+# card pair of the hook (mu_s, with mu_k kept at the pair's ratio). The robot's mass, the
+# row's rise and pitch are what the designer is given. The prototype lies inside every range.
+DEFAULT_TUNABLES = (
+    Tunable("design.m3", 0.004, 0.012),
+    Tunable("design.h", -0.01, 0.02),
+    Tunable("design.La", 0.035, 0.065),
+    Tunable("design.spring_k", 2e-4, 4e-3, "log"),
+    Tunable("design.mu_s", 0.2, 1.5, "log", linked=("design.mu_k",)),
+)
+DEFAULT_CONTEXT = (ContextRange("scene.rise"), ContextRange("scene.pitch"), ContextRange("design.m2"))
+
+
+@dataclass(frozen=True)
 class Config:
     design: Design = field(default_factory=Design)
     scene: Scene = field(default_factory=Scene)
     sim: Sim = field(default_factory=Sim)
+    tunable: tuple[Tunable, ...] = DEFAULT_TUNABLES
+    context: tuple[ContextRange, ...] = DEFAULT_CONTEXT
+    tolerance: tuple[Tolerance, ...] = ()
+    env: EnvOptions = field(default_factory=EnvOptions)
 
     def to_dict(self) -> dict:
-        return dataclasses.asdict(self)
+        """Plain dicts and lists (YAML-ready); ``from_dict(cfg.to_dict())`` gives ``cfg`` back."""
+        return _plain(dataclasses.asdict(self))
+
+    def value(self, key: str) -> float:
+        """A real-valued field by dotted key, e.g. ``cfg.value("design.m3")``."""
+        section, name = key.split(".", 1)
+        return getattr(getattr(self, section), name)
+
+    def with_values(self, values: Mapping[str, float]) -> "Config":
+        """A new config with real-valued ``design.*``/``scene.*`` fields set, each checked against its
+        range and the design's cross-checks (the fast path ``replace`` takes for numbers only)."""
+        changes: dict[str, dict[str, float]] = {"design": {}, "scene": {}}
+        for key, v in values.items():
+            f = real_field(key, "key")
+            sec, name = key.split(".", 1)
+            changes[sec][name] = _check_value(key, f, v)
+        cfg = dataclasses.replace(self, design=dataclasses.replace(self.design, **changes["design"]),
+                                  scene=dataclasses.replace(self.scene, **changes["scene"]))
+        _check_design(cfg.design)
+        return cfg
 
     def replace(self, overrides: Mapping[str, Any]) -> "Config":
         """A new validated config with dotted-key overrides applied."""
         return from_dict(self.to_dict(), overrides)
 
 
-SECTIONS = {"design": Design, "scene": Scene, "sim": Sim}
+SECTIONS = {"design": Design, "scene": Scene, "sim": Sim, "env": EnvOptions}
+LIST_SECTIONS = {"tunable": Tunable, "context": ContextRange, "tolerance": Tolerance}
+
+
+def _plain(x: Any) -> Any:
+    if isinstance(x, Mapping):
+        return {k: _plain(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_plain(v) for v in x]
+    return x
 
 
 def _set_dotted(tree: dict, key: str, value: Any) -> None:
+    if key in LIST_SECTIONS:  # a list section is replaced whole
+        tree[key] = value
+        return
     parts = key.split(".")
     if len(parts) < 2 or parts[0] not in SECTIONS:
-        raise ConfigError(f"override key {key!r}: must start with one of {sorted(SECTIONS)} (e.g. design.m2)")
+        raise ConfigError(f"override key {key!r}: must start with one of {sorted(SECTIONS)} (e.g. design.m2), "
+                          f"or be one of {sorted(LIST_SECTIONS)}")
     node = tree
     for p in parts[:-1]:
         child = node.setdefault(p, {})
@@ -164,11 +272,7 @@ def _check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
         if not isinstance(value, str) or (meta["choices"] and value not in meta["choices"]):
             raise ConfigError(f"{path} = {value!r}: must be one of {list(meta['choices'])}")
         return value
-    if isinstance(value, str):
-        try:  # YAML 1.1 reads 1e-9 (no dot) as a string
-            value = float(value)
-        except ValueError:
-            pass
+    value = _yaml_number(value)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ConfigError(f"{path} = {value!r}: must be a number ({typ.__name__}) in {_range_text(meta)}")
     if typ is int:
@@ -184,6 +288,16 @@ def _check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
         raise ConfigError(f"{path} = {value!r}: out of range, allowed {_range_text(meta)}")
     if hi is not None and value > hi:
         raise ConfigError(f"{path} = {value!r}: out of range, allowed {_range_text(meta)}")
+    return value
+
+
+def _yaml_number(value: Any) -> Any:
+    """YAML 1.1 reads 1e-9 (no dot) as a string: read such a string as the number it spells."""
+    if isinstance(value, str):
+        try:
+            return float(value)
+        except ValueError:
+            pass
     return value
 
 
@@ -243,13 +357,127 @@ def from_dict(data: Mapping[str, Any] | None, overrides: Mapping[str, Any] | Non
         raise ConfigError(f"config: must be a mapping with sections {sorted(SECTIONS)}, got {data!r}")
     for key, value in (overrides or {}).items():
         _set_dotted(tree, key, value)
-    unknown = sorted(map(str, set(tree) - set(SECTIONS)))
+    unknown = sorted(map(str, set(tree) - set(SECTIONS) - set(LIST_SECTIONS)))
     if unknown:
-        raise ConfigError(f"{unknown[0]}: unknown section; allowed sections are {sorted(SECTIONS)}")
-    cfg = Config(**{name: _build(cls, tree.get(name), name) for name, cls in SECTIONS.items()})
+        raise ConfigError(f"{unknown[0]}: unknown section; allowed sections are {sorted(SECTIONS | LIST_SECTIONS)}")
+    sections = {name: _build(cls, tree.get(name), name) for name, cls in SECTIONS.items()}
+    lists = {name: _build_list(name, tree[name], sections) for name in LIST_SECTIONS if name in tree}
+    cfg = Config(**sections, **lists)
     _check_design(cfg.design)
     _check_sim(cfg.sim)
+    _check_design_problem(cfg)
     return cfg
+
+
+def real_field(key: Any, where: str) -> dataclasses.Field:
+    """The declaration of a real-valued ``design.*`` or ``scene.*`` field, or a ConfigError naming ``where``."""
+    sec, _, name = str(key).partition(".")
+    cls = {"design": Design, "scene": Scene}.get(sec)
+    known = {f.name: f for f in fields(cls)} if cls else {}
+    f = known.get(name)
+    if f is None or f.type not in (float, "float"):
+        choices = [f"design.{f.name}" for f in fields(Design)] + [f"scene.{f.name}" for f in fields(Scene)
+                                                                   if f.type in (float, "float")]
+        raise ConfigError(f"{where} = {key!r}: not a real-valued design or scene field; allowed: {', '.join(choices)}")
+    return f
+
+
+def _build_list(section: str, data: Any, sections: Mapping[str, Any]) -> tuple:
+    """Validate one list section (tunable, context or tolerance) entry by entry."""
+    cls = LIST_SECTIONS[section]
+    if not isinstance(data, (list, tuple)):
+        raise ConfigError(f"{section}: must be a list of mappings with keys {[f.name for f in fields(cls)]}, "
+                          f"got {data!r}")
+    items, seen = [], set()
+    for i, entry in enumerate(data):
+        where = f"{section}[{i}]"
+        if not isinstance(entry, Mapping):
+            raise ConfigError(f"{where}: must be a mapping with keys {[f.name for f in fields(cls)]}, got {entry!r}")
+        allowed = {f.name for f in fields(cls)}
+        extra = sorted(map(str, set(entry) - allowed))
+        if extra:
+            raise ConfigError(f"{where}.{extra[0]}: unknown key; allowed keys are {sorted(allowed)}")
+        if "name" not in entry:
+            raise ConfigError(f"{where}.name: missing; the dotted key of the field, e.g. design.m3")
+        f = real_field(entry["name"], f"{where}.name")
+        name = str(entry["name"])
+        if name in seen:
+            raise ConfigError(f"{where}.name = {name!r}: listed twice in {section}")
+        seen.add(name)
+        base = getattr(sections[name.split(".")[0]], name.split(".")[1])
+        items.append(_ITEM_BUILDERS[section](entry, where, name, f, base))
+    return tuple(items)
+
+
+def _bound(entry: Mapping, key: str, where: str, name: str, f: dataclasses.Field) -> float:
+    """``entry[key]`` checked against the range of the field it sets."""
+    return _check_value(f"{where}.{key} (a value of {name})", f, entry[key])
+
+
+def _tunable(entry, where, name, f, base) -> Tunable:
+    for key in ("low", "high"):
+        if key not in entry:
+            raise ConfigError(f"{where}.{key}: missing; the value of {name} at action {'-1' if key == 'low' else '+1'}")
+    low, high = _bound(entry, "low", where, name, f), _bound(entry, "high", where, name, f)
+    if not low < high:
+        raise ConfigError(f"{where}.high = {high!r}: must exceed {where}.low = {low!r}, allowed ({low}, "
+                          f"{f.metadata['hi']}]")
+    scale = entry.get("scale", "linear")
+    if scale not in ("linear", "log"):
+        raise ConfigError(f"{where}.scale = {scale!r}: must be one of ['linear', 'log']")
+    if scale == "log" and low <= 0:
+        raise ConfigError(f"{where}.low = {low!r}: a log scale needs low > 0, allowed (0, {high})")
+    linked = entry.get("linked", ()) or ()
+    if isinstance(linked, str) or not isinstance(linked, (list, tuple)):
+        raise ConfigError(f"{where}.linked = {linked!r}: must be a list of dotted keys, e.g. [design.mu_k]")
+    for j, key in enumerate(linked):
+        real_field(key, f"{where}.linked[{j}]")
+        if key == name:
+            raise ConfigError(f"{where}.linked[{j}] = {key!r}: a field cannot be linked to itself")
+    if linked and base <= 0:
+        raise ConfigError(f"{where}.linked: the links scale by {name} / its config value, which is {base!r}; "
+                          f"allowed only when that value is > 0")
+    return Tunable(name, low, high, scale, tuple(str(k) for k in linked))
+
+
+def _context(entry, where, name, f, _base) -> ContextRange:
+    has_low, has_high = entry.get("low") is not None, entry.get("high") is not None
+    if has_low != has_high:
+        raise ConfigError(f"{where}: give both low and high (drawn uniformly at reset), or neither (fixed)")
+    if not has_low:
+        return ContextRange(name)
+    low, high = _bound(entry, "low", where, name, f), _bound(entry, "high", where, name, f)
+    if low > high:
+        raise ConfigError(f"{where}.high = {high!r}: must be at least {where}.low = {low!r}")
+    return ContextRange(name, low, high)
+
+
+def _tolerance(entry, where, name, f, _base) -> Tolerance:
+    out = {}
+    for key, hi in (("relative", 0.5), ("absolute", math.inf)):
+        v = _yaml_number(entry.get(key, 0.0))
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0.0 <= v <= hi):
+            raise ConfigError(f"{where}.{key} = {v!r}: must be a number in [0, {hi}]")
+        out[key] = float(v)
+    return Tolerance(name, **out)
+
+
+_ITEM_BUILDERS = {"tunable": _tunable, "context": _context, "tolerance": _tolerance}
+
+
+def _check_design_problem(cfg: Config) -> None:
+    """A field is either chosen (tunable) or given (context), and links only fields that are neither."""
+    tuned = {t.name for t in cfg.tunable}
+    for i, c in enumerate(cfg.context):
+        if c.name in tuned:
+            raise ConfigError(f"context[{i}].name = {c.name!r}: also tunable; the designer either chooses a value "
+                              f"or is given it, not both")
+    given = {c.name for c in cfg.context}
+    for i, t in enumerate(cfg.tunable):
+        for key in t.linked:
+            if key in tuned or key in given:
+                raise ConfigError(f"tunable[{i}].linked: {key!r} is itself tunable or context; it cannot also follow "
+                                  f"{t.name}")
 
 
 def _check_sim(s: Sim) -> None:
@@ -307,4 +535,9 @@ def schema_rows() -> list[tuple[str, str, str, str, str]]:
 
     for name, cls in SECTIONS.items():
         walk(cls, name)
+    for name, cls in LIST_SECTIONS.items():
+        for f in fields(cls):
+            m = f.metadata
+            default = "required" if f.name == "name" or (cls is Tunable and f.name in ("low", "high")) else repr(f.default)
+            rows.append((f"{name}[].{f.name}", default, m["unit"], "", m["doc"]))
     return rows

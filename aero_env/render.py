@@ -60,42 +60,61 @@ def plot_angles(result: SimResult, path: str | Path, title: str = "") -> None:
     plt.close(fig)
 
 
+ANIMATION_FPS = 30
+
+
+def pose_interval(slowmo: float, fps: float = ANIMATION_FPS) -> float:
+    """Simulated seconds between recorded poses for an animation at ``fps`` played ``slowmo`` times slower."""
+    return 1.0 / (fps * slowmo)
+
+
 def _rot(v, a):
     c, s = math.cos(a), math.sin(a)
     return (c * v[0] - s * v[1], s * v[0] + c * v[1])
 
 
-def draw_frames(result: SimResult, width: int = 720, height: int = 300, every: int = 1):
-    """Render the recorded poses as a list of RGB numpy arrays (height, width, 3)."""
-    from PIL import Image, ImageDraw
+def _add(a, b):
+    return (a[0] + b[0], a[1] + b[1])
 
-    if result.poses is None or result.geometry is None:
-        raise ValueError("this result has no poses: simulate(..., poses_every=...)")
-    g = result.geometry
-    axes = g["axes"]
-    (fx0, fy0), (fx1, fy1) = g["floor"]
-    xmin, xmax = axes[0][0] - 0.09, axes[-1][0] + 0.09
-    ymid = (axes[0][1] + axes[-1][1]) / 2.0
-    scale = width / (xmax - xmin)
-    ymax = ymid + height / scale * 0.4
 
-    def px(p):
-        return ((p[0] - xmin) * scale, (ymax - p[1]) * scale)
+class Canvas:
+    """Draws the machine (SI geometry from :meth:`World.geometry`) into fixed-size RGB images."""
 
-    La, Lb, h = g["La"], g["Lb"], g["h"]
-    faces = g["faces_local"][0]
-    frames_out = []
-    for t, angles, torso_pos, torso_angle, arm_angle in result.poses[::every]:
-        img = Image.new("RGB", (width, height), (250, 250, 247))
+    BACKGROUND = (250, 250, 247)
+
+    def __init__(self, geometry: dict, width: int = 720, height: int = 300):
+        self.g, self.width, self.height = geometry, width, height
+        axes = geometry["axes"]
+        xmin, xmax = axes[0][0] - 0.09, axes[-1][0] + 0.09
+        ymid = (axes[0][1] + axes[-1][1]) / 2.0
+        self.scale = width / (xmax - xmin)
+        self.origin = (xmin, ymid + height / self.scale * 0.4)
+
+    def px(self, p):
+        return ((p[0] - self.origin[0]) * self.scale, (self.origin[1] - p[1]) * self.scale)
+
+    def hook(self, pose) -> tuple:
+        _t, _angles, torso_pos, _torso_angle, arm_angle = pose
+        return _add(torso_pos, _rot((self.g["arm_length"], 0.0), arm_angle))
+
+    def draw(self, pose, caption: str = "", path: list | None = None) -> np.ndarray:
+        """One frame: the row at ``pose`` (t, frame angles, torso position, torso angle, arm angle),
+        optionally with the hook's ``path`` (SI points) traced behind it."""
+        from PIL import Image, ImageDraw
+
+        g, px = self.g, self.px
+        t, angles, torso_pos, torso_angle, arm_angle = pose
+        img = Image.new("RGB", (self.width, self.height), self.BACKGROUND)
         d = ImageDraw.Draw(img)
-        d.line([px((fx0, fy0)), px((fx1, fy1))], fill=(150, 150, 150), width=2)  # floor
-        for (ax, ay), th in zip(axes, angles):
+        d.line([px(g["floor"][0]), px(g["floor"][1])], fill=(150, 150, 150), width=2)
+        La, Lb, h = g["La"], g["Lb"], g["h"]
+        for (ax, ay), th in zip(g["axes"], angles):
             def w(v, ax=ax, ay=ay, th=th):
                 r = _rot(v, th)
                 return px((ax + r[0], ay + r[1]))
 
             d.line([w((-Lb, 0.0)), w((La, 0.0))], fill=(120, 90, 40), width=3)  # frame
-            for a, b in faces:  # handrail notch
+            for a, b in g["faces_local"][0]:  # handrail notch
                 d.line([w(a), w(b)], fill=(40, 40, 40), width=2)
             cx, cy = w((La, h))
             d.ellipse([cx - 5, cy - 5, cx + 5, cy + 5], fill=(200, 160, 30))  # counterbalance
@@ -103,25 +122,42 @@ def draw_frames(result: SimResult, width: int = 720, height: int = 300, every: i
             d.ellipse([sx - 2, sy - 2, sx + 2, sy + 2], fill=(90, 90, 90))  # stopper skewer
             ox, oy = px((ax, ay))
             d.ellipse([ox - 3, oy - 3, ox + 3, oy + 3], fill=(0, 0, 0))  # axis skewer
-        axle = torso_pos
-        torso_end = _add(axle, _rot((0.0, -2.0 * g["torso_com"]), torso_angle))
-        d.line([px(axle), px(torso_end)], fill=(30, 90, 200), width=6)  # torso with coins
-        cx, cy = px(_add(axle, _rot((0.0, -g["torso_com"]), torso_angle)))
+        if path and len(path) > 1:
+            d.line([px(q) for q in path], fill=(230, 150, 150), width=1)
+        torso_end = _add(torso_pos, _rot((0.0, -2.0 * g["torso_com"]), torso_angle))
+        d.line([px(torso_pos), px(torso_end)], fill=(30, 90, 200), width=6)  # torso with coins
+        cx, cy = px(_add(torso_pos, _rot((0.0, -g["torso_com"]), torso_angle)))
         d.ellipse([cx - 5, cy - 5, cx + 5, cy + 5], fill=(190, 190, 200))
-        hook = _add(axle, _rot((g["arm_length"], 0.0), arm_angle))
-        d.line([px(axle), px(hook)], fill=(200, 40, 40), width=3)  # arm
+        hook = self.hook(pose)
+        d.line([px(torso_pos), px(hook)], fill=(200, 40, 40), width=3)  # arm
         hx, hy = px(hook)
         d.ellipse([hx - 3, hy - 3, hx + 3, hy + 3], outline=(200, 40, 40), width=2)
-        d.text((8, 6), f"t = {t:5.2f} s", fill=(0, 0, 0))
-        frames_out.append(np.asarray(img))
-    return frames_out
+        d.text((8, 6), f"t = {t:5.2f} s" + (f"   {caption}" if caption else ""), fill=(0, 0, 0))
+        return np.asarray(img)
 
 
-def _add(a, b):
-    return (a[0] + b[0], a[1] + b[1])
+def _need_poses(result: SimResult) -> None:
+    if result.poses is None or result.geometry is None:
+        raise ValueError("this result has no poses: simulate(..., poses_every=...)")
 
 
-def write_gif(result: SimResult, path: str | Path, fps: int = 30) -> None:
+def draw_frames(result: SimResult, width: int = 720, height: int = 300, every: int = 1) -> list[np.ndarray]:
+    """Render the recorded poses as a list of RGB numpy arrays (height, width, 3)."""
+    _need_poses(result)
+    canvas = Canvas(result.geometry, width, height)
+    return [canvas.draw(pose) for pose in result.poses[::every]]
+
+
+def draw_summary(result: SimResult, width: int = 720, height: int = 300) -> np.ndarray:
+    """The whole run in one picture: the final pose, the hook's path, and the outcome."""
+    _need_poses(result)
+    canvas = Canvas(result.geometry, width, height)
+    path = [canvas.hook(p) for p in result.poses]
+    caption = f"{result.outcome}: {result.traversals}/{result.frames - 1} traversals"
+    return canvas.draw(result.poses[-1], caption, path)
+
+
+def write_gif(result: SimResult, path: str | Path, fps: int = ANIMATION_FPS) -> None:
     from PIL import Image
 
     rgb = draw_frames(result)

@@ -116,3 +116,65 @@ def test_mixed_key_types_give_a_config_error(tmp_path):
     p.write_text("design: {1: 2, foo: 3}\n")
     with pytest.raises(ConfigError, match="unknown key"):
         load_config(p)
+
+
+# ---- the design problem: tunable, context, tolerance, env ----
+DESIGN_PROBLEM_YAML = """
+tunable:
+  - {name: design.m3, low: 0.005, high: 0.01}
+  - {name: design.mu_s, low: 0.45, high: 1.2, scale: log, linked: [design.mu_k]}
+context:
+  - {name: scene.rise, low: 0.0, high: 0.004}
+  - {name: design.m2}
+tolerance:
+  - {name: design.La, absolute: 5e-4}
+env:
+  reward_shaping: 0.25
+"""
+
+
+def test_design_problem_sections_load_and_round_trip(tmp_path):
+    path = tmp_path / "problem.yaml"
+    path.write_text(PAPER.read_text() + DESIGN_PROBLEM_YAML)
+    cfg = load_config(path)
+    assert [t.name for t in cfg.tunable] == ["design.m3", "design.mu_s"]
+    assert cfg.tunable[1].scale == "log" and cfg.tunable[1].linked == ("design.mu_k",)
+    assert cfg.context[0].low == 0.0 and cfg.context[1].low is None
+    assert cfg.tolerance[0].absolute == 5e-4 and cfg.tolerance[0].relative == 0.0
+    assert cfg.env.reward_shaping == 0.25
+    from aero_env.config import from_dict
+
+    assert from_dict(cfg.to_dict()) == cfg
+    assert load_config(PAPER, {"tunable": cfg.to_dict()["tunable"]}).tunable == cfg.tunable
+
+
+@pytest.mark.parametrize("overrides, message", [
+    ({"tunable": [{"name": "design.m3", "low": 0.01}]}, "tunable[0].high: missing"),
+    ({"tunable": [{"name": "design.m3", "low": 0.01, "high": 0.005}]}, "tunable[0].high = 0.005: must exceed"),
+    ({"tunable": [{"name": "design.h", "low": -0.01, "high": 0.01, "scale": "log"}]},
+     "tunable[0].low = -0.01: a log scale needs low > 0"),
+    ({"tunable": [{"name": "design.m3", "low": -1, "high": 0.01}]}, "tunable[0].low (a value of design.m3) = -1"),
+    ({"tunable": [{"name": "design.m3", "low": 0.005, "high": 0.01, "step": 1}]}, "tunable[0].step: unknown key"),
+    ({"tunable": [{"name": "scene.effects.drag", "low": 0, "high": 1}]}, "not a real-valued design or scene field"),
+    ({"tunable": [{"name": "design.m3", "low": 0.005, "high": 0.01}] * 2}, "listed twice"),
+    ({"tunable": [{"name": "design.mu_s", "low": 0.5, "high": 1, "linked": ["design.mu_s"]}]}, "linked to itself"),
+    ({"tunable": "design.m3"}, "tunable: must be a list"),
+    ({"context": [{"name": "scene.rise", "low": 0.001}]}, "give both low and high"),
+    ({"context": [{"name": "scene.rise", "low": 0.003, "high": 0.001}]}, "must be at least context[0].low"),
+    ({"tolerance": [{"name": "design.m3", "relative": -0.1}]}, "tolerance[0].relative = -0.1"),
+    ({"env.reward_shaping": 1.5}, "env.reward_shaping = 1.5: out of range, allowed [0.0, 0.99]"),
+    ({"env.action_out_of_box": "wrap"}, "env.action_out_of_box = 'wrap': must be one of ['error', 'clip']"),
+])
+def test_design_problem_errors_name_the_entry(overrides, message):
+    with pytest.raises(ConfigError) as exc:
+        load_config(PAPER, overrides)
+    assert message in str(exc.value)
+
+
+def test_with_values_checks_ranges_and_cross_checks(paper_cfg):
+    cfg = paper_cfg.with_values({"design.m3": 0.008, "scene.rise": 0.001})
+    assert (cfg.design.m3, cfg.scene.rise, cfg.design.m2) == (0.008, 0.001, paper_cfg.design.m2)
+    with pytest.raises(ConfigError, match="design.m3 = -0.1: out of range"):
+        paper_cfg.with_values({"design.m3": -0.1})
+    with pytest.raises(ConfigError, match="design.mu_k = 0.409: must not exceed design.mu_s = 0.3"):
+        paper_cfg.with_values({"design.mu_s": 0.3})

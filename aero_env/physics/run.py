@@ -59,6 +59,7 @@ class SimResult:
     energy: dict
     sim_time: float
     wall_time: float
+    miss_distance: float | None = None  # m: closest the hook came to the next handrail's seat in the failed transfer
     trace: dict | None = field(default=None, repr=False)
     poses: list | None = field(default=None, repr=False)
     geometry: dict | None = field(default=None, repr=False)
@@ -67,7 +68,7 @@ class SimResult:
         """The fields of ``aero-env simulate --json`` (no trace or poses)."""
         return dict(traversals=self.traversals, frames=self.frames, outcome=self.outcome, reason=self.reason,
                     swings=[asdict(s) for s in self.swings], energy=dict(self.energy),
-                    sim_time=self.sim_time, wall_time=self.wall_time)
+                    sim_time=self.sim_time, wall_time=self.wall_time, miss_distance=self.miss_distance)
 
 
 class _Flight:
@@ -122,6 +123,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
     outcome, reason = "timeout", f"reached sim.t_max = {sim.t_max} s"
     n_max = int(math.ceil(sim.t_max / sim.dt))
     next_seat = frames[1].hook_seat_world() if n_frames > 1 else None
+    closest = math.inf  # engine units: hook to next_seat since the last catch, on the check cadence
 
     for n in range(1, n_max + 1):
         world.step()
@@ -182,6 +184,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                         outcome, reason = "completed", f"caught by the last frame ({nxt})"
                         break
                     next_seat = frames[nxt + 1].hook_seat_world()
+                    closest = math.inf
                     continue
             else:
                 flight.first_touch = None
@@ -205,6 +208,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                 outcome, reason = "unstable", (f"mechanical energy rose by {max_rise:.3g} J, above the tolerance "
                                                f"{e_tol:.3g} J (sim.energy_tolerance): numerical error")
                 break
+            closest = min(closest, (robot.hook_world() - next_seat).length)
             if flight is None:
                 th2d = math.degrees(th2)
                 th2_lo, th2_hi = min(th2_lo, th2d), max(th2_hi, th2d)
@@ -221,6 +225,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
         traversals=traversals, frames=n_frames, outcome=outcome, reason=reason, swings=swings,
         energy=dict(initial=e0, final=e_final, max_gain=max(max_gain, e_final - e0), max_rise=max_rise),
         sim_time=world.t, wall_time=time.perf_counter() - wall0,
+        miss_distance=None if outcome == "completed" or not math.isfinite(closest) else units.length_to_si(closest),
         trace={c: np.array(v) for c, v in zip(TRACE_COLUMNS, zip(*rows))} if trace and rows else None,
         poses=poses if pose_steps else None,
         geometry=world.geometry() if pose_steps else None,

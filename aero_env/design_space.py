@@ -1,0 +1,153 @@
+"""The design problem a config poses: actions to designs, the drawn context, tolerances.
+
+A config's ``tunable`` list is the action space: action ``a`` in [-1, 1] maps onto
+``[low, high]`` linearly (``low + (a + 1)/2·(high - low)``) or geometrically
+(``low·(high/low)^((a + 1)/2)``). A tunable's ``linked`` fields follow it by the same
+factor relative to the config's values (so mu_k keeps its ratio to mu_s).
+
+At each reset the ``context`` (what the designer knows of the scene: observed) and the
+``tolerance`` draws (manufacturing error the designer does not know: not observed) come from
+the caller's RNG. :meth:`DesignSpace.episode_config` then builds the config that is simulated:
+
+    config values -> context draws -> tunable values (+ links) -> tolerances -> validated Config
+
+Every corner of that space is validated when the space is built, so an in-box action never
+produces an invalid design in the middle of training: a bad ``tunable`` range fails at once,
+naming the corner and the field.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+
+from .config import Config, ConfigError
+
+EXHAUSTIVE_CORNERS = 12  # up to 2**12 corners are all checked; beyond, a fixed sample of 4096
+
+
+@dataclass(frozen=True)
+class Draw:
+    """One reset's draws: context values (SI) and tolerance factors u in [-1, 1]."""
+
+    context: dict
+    tolerance_u: tuple
+
+
+class DesignSpace:
+    def __init__(self, cfg: Config):
+        self.cfg = cfg
+        self.tunables = cfg.tunable
+        self.context = cfg.context
+        self.tolerances = tuple(t for t in cfg.tolerance if t.relative > 0 or t.absolute > 0)
+        self.dim = len(self.tunables)
+        if self.dim == 0:
+            raise ConfigError("tunable: empty; the action space needs at least one tunable field")
+        self.obs_dim = len(self.context)
+        if self.obs_dim == 0:
+            raise ConfigError("context: empty; the observation needs at least one field (e.g. scene.rise)")
+        self._check_corners()
+
+    # ---- actions <-> designs ----
+    def values(self, action: np.ndarray) -> dict[str, float]:
+        """Tunable (and linked) field values, SI, for an in-box action."""
+        out: dict[str, float] = {}
+        for t, a in zip(self.tunables, action):
+            x = (float(a) + 1.0) / 2.0
+            v = t.low * (t.high / t.low) ** x if t.scale == "log" else t.low + x * (t.high - t.low)
+            v = min(max(v, t.low), t.high)  # rounding must never step outside the declared range
+            out[t.name] = v
+            if t.linked:
+                factor = v / self.cfg.value(t.name)
+                for key in t.linked:
+                    out[key] = self.cfg.value(key) * factor
+        return out
+
+    def action_for(self, values: Mapping[str, float] | None = None) -> np.ndarray:
+        """The action (float32) whose design is ``values`` (by dotted key; missing keys: the config's value)."""
+        values = dict(values or {})
+        a = np.empty(self.dim, dtype=np.float32)
+        for i, t in enumerate(self.tunables):
+            v = float(values.get(t.name, self.cfg.value(t.name)))
+            if not t.low <= v <= t.high:
+                raise ConfigError(f"{t.name} = {v!r}: outside tunable[{i}]'s range [{t.low}, {t.high}]")
+            x = math.log(v / t.low) / math.log(t.high / t.low) if t.scale == "log" else (v - t.low) / (t.high - t.low)
+            a[i] = 2.0 * x - 1.0
+        return a
+
+    def check_action(self, action, clip: bool) -> np.ndarray:
+        """``action`` as a float64 vector in the box, or a ConfigError naming the bad dimension."""
+        try:
+            a = np.asarray(action, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ConfigError(f"action = {action!r}: must be {self.dim} numbers in [-1, 1]") from None
+        if a.shape != (self.dim,):
+            raise ConfigError(f"action has shape {a.shape}: expected ({self.dim},), one value per tunable "
+                              f"({', '.join(t.name for t in self.tunables)})")
+        for i, (v, t) in enumerate(zip(a, self.tunables)):
+            if not math.isfinite(v):
+                raise ConfigError(f"action[{i}] ({t.name}) = {v!r}: must be a finite number in [-1, 1]")
+            if not clip and abs(v) > 1.0:
+                raise ConfigError(f"action[{i}] ({t.name}) = {v!r}: out of the action box, allowed [-1, 1] "
+                                  f"(or set env.action_out_of_box: clip)")
+        return np.clip(a, -1.0, 1.0)
+
+    # ---- context and tolerances ----
+    def draw(self, rng: np.random.Generator) -> Draw:
+        u = rng.random(len(self.context) + len(self.tolerances))
+        ctx = {}
+        for c, ui in zip(self.context, u):
+            ctx[c.name] = self.cfg.value(c.name) if c.low is None else c.low + float(ui) * (c.high - c.low)
+        tol = tuple(2.0 * float(x) - 1.0 for x in u[len(self.context):])
+        return Draw(ctx, tol)
+
+    def nominal_draw(self) -> Draw:
+        """The draw with every context at its config value (or range centre) and no tolerance error."""
+        ctx = {c.name: self.cfg.value(c.name) if c.low is None else 0.5 * (c.low + c.high) for c in self.context}
+        return Draw(ctx, (0.0,) * len(self.tolerances))
+
+    def observation(self, draw: Draw) -> np.ndarray:
+        """The context normalised to [-1, 1] over its range (0 where it is fixed)."""
+        obs = np.zeros(self.obs_dim, dtype=np.float32)
+        for i, c in enumerate(self.context):
+            if c.low is not None and c.high > c.low:
+                obs[i] = 2.0 * (draw.context[c.name] - c.low) / (c.high - c.low) - 1.0
+        return obs
+
+    def episode_config(self, design: Mapping[str, float], draw: Draw) -> tuple[Config, dict]:
+        """The config to simulate, and the fields the tolerances changed (as built, SI)."""
+        values = {**draw.context, **design}
+        built = {}
+        for t, u in zip(self.tolerances, draw.tolerance_u):
+            v = values.get(t.name, self.cfg.value(t.name))
+            built[t.name] = v * (1.0 + t.relative * u) + t.absolute * u
+        return self.cfg.with_values({**values, **built}), built
+
+    # ---- validation ----
+    def _check_corners(self) -> None:
+        """Every corner of actions x context x tolerances must be a valid design."""
+        varied_ctx = [c for c in self.context if c.low is not None and c.high > c.low]
+        n = self.dim + len(varied_ctx) + len(self.tolerances)
+        signs = [(-1.0, 1.0)] * n
+        if n <= EXHAUSTIVE_CORNERS:
+            corners = itertools.product(*signs)
+        else:
+            rng = np.random.default_rng(0)
+            corners = (tuple(rng.choice((-1.0, 1.0), size=n)) for _ in range(2 ** EXHAUSTIVE_CORNERS))
+        for corner in corners:
+            a = np.array(corner[:self.dim])
+            ctx = {c.name: self.cfg.value(c.name) for c in self.context}
+            for c, s in zip(varied_ctx, corner[self.dim:]):
+                ctx[c.name] = c.low if s < 0 else c.high
+            draw = Draw(ctx, tuple(corner[self.dim + len(varied_ctx):]))
+            try:
+                self.episode_config(self.values(a), draw)
+            except ConfigError as exc:
+                where = ", ".join(f"{k}={v:.6g}" for k, v in {**self.values(a), **ctx}.items())
+                raise ConfigError(f"the design space reaches an invalid design at the corner ({where}"
+                                  f"{', tolerances ' + str(draw.tolerance_u) if draw.tolerance_u else ''}): "
+                                  f"{exc}") from None

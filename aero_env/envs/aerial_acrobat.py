@@ -1,0 +1,221 @@
+"""The design environment: one episode builds one design and runs it along the row."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Mapping
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from ..config import Config, ConfigError, load_config
+from ..design_space import DesignSpace, Draw
+from ..physics import SimResult, World, simulate
+from ..render import ANIMATION_FPS, Canvas, draw_frames, draw_summary, pose_interval
+
+__all__ = ["AerialAcrobatEnv"]
+
+
+class AerialAcrobatEnv(gym.Env):
+    """
+    ## Description
+
+    The paper-craft aerial acrobat (Shinohara & Nishibori, Appl. Sci. 2026, 16, 921) swings
+    with no motor along a rising row of counterweighted swing frames: each frame, pulled
+    round by the robot's weight against its counterbalance, lifts the robot until the hook
+    slips off the handrail and the spring-loaded arm snaps forward onto the next frame.
+    This environment asks for the *design* that makes it work. One episode is one design:
+    the action chooses the design parameters, the step simulates the whole row in the
+    pymunk world (:func:`aero_env.physics.simulate`), and the reward counts the consecutive
+    successful traversals. It is a contextual bandit: with a varied scene the policy must
+    map what it observes of the scene to a design.
+
+    ## Action Space
+
+    ``Box(-1, 1, (d,), float32)``, one dimension per entry of the config's ``tunable`` list,
+    mapped onto ``[low, high]`` linearly or geometrically (``scale: log``). The defaults
+    (``aero_env.config.DEFAULT_TUNABLES``), with the prototype's value inside every range:
+
+    | Num | Field             | Low    | High   | Scale  | Prototype | Unit    |
+    |-----|-------------------|--------|--------|--------|-----------|---------|
+    | 0   | design.m3         | 0.004  | 0.012  | linear | 0.0072    | kg      |
+    | 1   | design.h          | -0.01  | 0.02   | linear | 0.005     | m       |
+    | 2   | design.La         | 0.035  | 0.065  | linear | 0.0483    | m       |
+    | 3   | design.spring_k   | 2e-4   | 4e-3   | log    | 8.77e-4   | N·m/rad |
+    | 4   | design.mu_s       | 0.2    | 1.5    | log    | 0.542     | -       |
+
+    ``design.mu_s`` is linked to ``design.mu_k``: both scale by one factor, so the card pair
+    keeps its kinetic/static ratio. ``env.action_for()`` gives the action of the config's own
+    design (the prototype's with ``configs/paper.yaml``). An action outside the box, of the
+    wrong shape, or with NaN raises ``ConfigError`` naming the dimension, its field and the
+    allowed range; with ``env.action_out_of_box: clip`` an out-of-box (finite) action is clipped.
+
+    ## Observation Space
+
+    ``Box(-1, 1, (k,), float32)``: the config's ``context`` list, what a designer knows of the
+    scene, each normalised over its range (``-1`` at ``low``, ``+1`` at ``high``; ``0`` where the
+    field is fixed). Defaults, all fixed at the config's value: ``scene.rise``, ``scene.pitch``,
+    ``design.m2``. The values in SI are in ``info["context"]``. Tolerances are not observed.
+
+    ## Rewards
+
+    | Outcome                              | Reward                                                   |
+    |--------------------------------------|----------------------------------------------------------|
+    | each consecutive traversal           | +1 (the full row of ``n`` frames gives ``n - 1``)        |
+    | the failed transfer (shaping on)     | ``+ env.reward_shaping · max(0, 1 - miss_distance / pitch)`` |
+    | ``unstable`` (the engine lost the state) | 0: its numbers are not physics                       |
+
+    Shaping is off by default (``env.reward_shaping: 0``); its weight is below 1, so partial
+    credit never outweighs one more real traversal.
+
+    ## Starting State
+
+    ``reset(seed=...)`` draws each varied ``context`` field uniformly from ``[low, high]`` and
+    each ``tolerance`` factor ``u`` uniformly from [-1, 1] with the env's RNG. The run itself
+    starts, as in the paper, at the catch on frame 0 with the frame at its rest angle and the
+    robot line at ``scene.theta2_start_deg``.
+
+    ## Episode End
+
+    Every step terminates the episode (``terminated=True``, never truncated): the run ends at
+    the first failed transfer or at the catch by the last frame, and always within
+    ``sim.t_max``. ``info`` holds the run as ``aero-env simulate --json`` prints it (``outcome``,
+    ``reason``, ``traversals``, ``frames``, ``swings``, ``energy``, ``sim_time``,
+    ``miss_distance``) except ``wall_time``, which would break determinism, plus ``design``
+    (the tunable and linked values chosen, SI), ``context`` (SI) and ``as_built`` (the fields the
+    tolerances changed, as simulated, SI).
+
+    ## Arguments
+
+    | Argument      | Default | Meaning                                                             |
+    |---------------|---------|---------------------------------------------------------------------|
+    | ``config``    | None    | a YAML path or a :class:`Config`; None: the prototype (the defaults) |
+    | ``overrides`` | None    | dotted-key overrides, as ``--set`` (``{"scene.rise": 0.004}``)      |
+    | ``render_mode`` | None  | ``human`` (pygame window), ``rgb_array``, ``rgb_array_list``        |
+    | ``**kwargs``  |         | more dotted-key overrides: ``gym.make(id, **{"design.m2": 0.008})`` |
+
+    ```python
+    import gymnasium as gym
+    import aero_env  # registers the environments
+
+    env = gym.make("aero_env/AerialAcrobat-v0", config="configs/paper.yaml", **{"scene.rise": 0.001})
+    obs, info = env.reset(seed=0)
+    obs, reward, terminated, truncated, info = env.step(env.unwrapped.action_for())
+    ```
+
+    ## Rendering
+
+    ``rgb_array``: after reset, the row at its start; after a step, the last run in one
+    picture (its final pose, the hook's path, the outcome). ``rgb_array_list``: every frame of
+    the last run's animation. ``human``: plays that animation in a pygame window, during
+    ``step``. Frames are ``(env.render_height, env.render_width, 3)`` uint8; animations play
+    ``env.render_slowmo`` times slower than real time at ``metadata["render_fps"]``.
+    """
+
+    metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": ANIMATION_FPS}
+
+    def __init__(self, config: str | Path | Config | None = None, overrides: Mapping[str, Any] | None = None,
+                 render_mode: str | None = None, **kwargs: Any):
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ConfigError(f"render_mode = {render_mode!r}: must be one of {self.metadata['render_modes']} or None")
+        extra = {**(overrides or {}), **kwargs}
+        if isinstance(config, Config):
+            self.config = config.replace(extra) if extra else config
+        else:
+            self.config = load_config(config, extra)
+        self.space = DesignSpace(self.config)
+        self.render_mode = render_mode
+        self.action_space = spaces.Box(-1.0, 1.0, (self.space.dim,), np.float32)
+        self.observation_space = spaces.Box(-1.0, 1.0, (self.space.obs_dim,), np.float32)
+        self._draw: Draw = self.space.nominal_draw()
+        self._result: SimResult | None = None
+        self._window = None
+        self._clock = None
+
+    # ---- the design problem ----
+    def action_for(self, design: Mapping[str, float] | None = None) -> np.ndarray:
+        """The action whose design is ``design`` (dotted keys, SI); missing keys take the config's values."""
+        return self.space.action_for(design)
+
+    def design_for(self, action) -> dict[str, float]:
+        """The tunable (and linked) values, SI, that ``action`` chooses."""
+        return self.space.values(self.space.check_action(action, self._clip))
+
+    @property
+    def _clip(self) -> bool:
+        return self.config.env.action_out_of_box == "clip"
+
+    # ---- Gymnasium API ----
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        self._draw = self.space.draw(self.np_random)
+        self._result = None
+        if self.render_mode == "human":
+            self._show([self._start_frame()])
+        return self.space.observation(self._draw), {"context": dict(self._draw.context)}
+
+    def step(self, action):
+        design = self.space.values(self.space.check_action(action, self._clip))
+        cfg, built = self.space.episode_config(design, self._draw)
+        slowmo = cfg.env.render_slowmo
+        result = simulate(cfg, poses_every=pose_interval(slowmo) if self.render_mode else None)
+        self._result = result
+        info = result.to_json_dict()
+        del info["wall_time"]  # the only field that is not a function of config and seed
+        info.update(design=design, context=dict(self._draw.context), as_built=built)
+        if self.render_mode == "human":
+            self.render()
+        return self.space.observation(self._draw), self._reward(result, cfg), True, False, info
+
+    def _reward(self, result: SimResult, cfg: Config) -> float:
+        if result.outcome == "unstable":
+            return 0.0
+        reward = float(result.traversals)
+        w = cfg.env.reward_shaping
+        if w > 0 and result.outcome != "completed" and result.miss_distance is not None:
+            reward += w * max(0.0, 1.0 - result.miss_distance / cfg.scene.pitch)
+        return reward
+
+    # ---- rendering ----
+    def _size(self) -> tuple[int, int]:
+        return self.config.env.render_width, self.config.env.render_height
+
+    def _start_frame(self) -> np.ndarray:
+        cfg, _ = self.space.episode_config({}, self._draw)  # the config's own design in this reset's scene
+        world = World(cfg)
+        return Canvas(world.geometry(), *self._size()).draw((0.0, *world.pose()), "ready")
+
+    def render(self):
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode: gym.make(..., render_mode='rgb_array')")
+            return None
+        r = self._result
+        if self.render_mode == "rgb_array":
+            return self._start_frame() if r is None else draw_summary(r, *self._size())
+        frames = [self._start_frame()] if r is None else draw_frames(r, *self._size())
+        if self.render_mode == "rgb_array_list":
+            return frames
+        self._show(frames)
+        return None
+
+    def _show(self, frames: list[np.ndarray]) -> None:
+        import pygame
+
+        if self._window is None:
+            pygame.display.init()  # display only: pygame.init() would also open the sound card
+            pygame.display.set_caption("aero-env: aerial acrobat")
+            self._window = pygame.display.set_mode(self._size())
+            self._clock = pygame.time.Clock()
+        for frame in frames:
+            pygame.event.pump()
+            self._window.blit(pygame.surfarray.make_surface(frame.swapaxes(0, 1)), (0, 0))
+            pygame.display.flip()
+            self._clock.tick(self.metadata["render_fps"])
+
+    def close(self):
+        if self._window is not None:
+            import pygame
+
+            pygame.display.quit()
+            self._window = None

@@ -1,0 +1,298 @@
+"""The design environment ``aero_env/AerialAcrobat-v0``: registration, rewards, spaces, determinism,
+vector envs, checkers, rendering and bad actions."""
+
+import json
+import math
+import subprocess
+import sys
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import aero_env  # noqa: F401  (registers the environments)
+from aero_env.config import ConfigError, load_config
+from aero_env.envs import AerialAcrobatEnv
+
+from .conftest import PAPER
+
+ENV_ID = "aero_env/AerialAcrobat-v0"
+SHORT = {"scene.frames": 3}  # two traversals: enough to tell designs apart, cheap to run
+VARIED = {"context": [{"name": "scene.rise", "low": 0.0, "high": 0.004}, {"name": "scene.pitch"},
+                      {"name": "design.m2", "low": 0.0070, "high": 0.0085}],
+          "tolerance": [{"name": "design.m3", "relative": 0.02}, {"name": "design.La", "absolute": 0.0005}]}
+
+
+def make(**kw):
+    return gym.make(ENV_ID, **kw)
+
+
+@pytest.fixture(scope="module")
+def prototype_step():
+    env = make()
+    env.reset(seed=0)
+    return env, env.step(env.unwrapped.action_for())
+
+
+def test_default_env_is_the_prototype_scene(prototype_step):
+    env, _ = prototype_step
+    assert env.unwrapped.config == load_config(PAPER)
+    assert env.action_space.shape == (5,) and env.action_space.dtype == np.float32
+    assert env.observation_space.shape == (3,)
+
+
+def test_prototype_action_scores_the_full_row(prototype_step):
+    env, (obs, reward, terminated, truncated, info) = prototype_step
+    frames = env.unwrapped.config.scene.frames
+    assert reward == frames - 1 == 7 and info["outcome"] == "completed"
+    assert terminated and not truncated
+    # the action maps back to the prototype's design (float32 action: within 1e-7 relative)
+    for key, v in info["design"].items():
+        assert v == pytest.approx(load_config(PAPER).value(key), rel=1e-7)
+    assert info["design"]["design.mu_k"] / info["design"]["design.mu_s"] == pytest.approx(0.409 / 0.542)
+
+
+@pytest.mark.parametrize("action", [[-1] * 5, [1] * 5, [1, -1, 1, -1, 1], [-1, 1, -1, 1, -1], [0.9, 0.9, -0.9, 0, 0]])
+def test_far_off_designs_score_less(action):
+    env = make()
+    env.reset(seed=0)
+    _, reward, _, _, info = env.step(np.array(action, dtype=np.float32))
+    assert reward < 7 and info["outcome"] != "completed"
+
+
+def test_config_path_and_keyword_overrides_select_the_scene():
+    env = make(config=str(PAPER), overrides={"scene.rise": 0.001}, **SHORT)
+    cfg = env.unwrapped.config
+    assert cfg.scene.frames == 3 and cfg.scene.rise == 0.001
+    env.reset(seed=1)
+    _, reward, _, _, info = env.step(env.unwrapped.action_for())
+    assert reward == 2 and info["frames"] == 3
+
+
+def test_info_has_the_simulate_json_fields_and_the_design(prototype_step):
+    _, (_, _, _, _, info) = prototype_step
+    from .test_cli import FIELDS
+
+    assert FIELDS - {"wall_time"} <= set(info) and "wall_time" not in info
+    assert set(info["design"]) == {"design.m3", "design.h", "design.La", "design.spring_k", "design.mu_s",
+                                   "design.mu_k"}
+    assert info["context"] == {"scene.rise": 0.002, "scene.pitch": 0.082, "design.m2": 0.00771}
+    assert info["as_built"] == {}
+
+
+def test_varied_context_is_drawn_observed_and_in_range():
+    env = make(**VARIED, **SHORT)
+    seen = []
+    for seed in range(6):
+        obs, info = env.reset(seed=seed)
+        assert env.observation_space.contains(obs)
+        rise, m2 = info["context"]["scene.rise"], info["context"]["design.m2"]
+        assert 0.0 <= rise <= 0.004 and 0.0070 <= m2 <= 0.0085
+        # the observation is the context normalised over its range; the fixed pitch observes 0
+        assert obs[0] == pytest.approx(rise / 0.002 - 1, abs=1e-6)
+        assert obs[1] == 0.0
+        assert obs[2] == pytest.approx((m2 - 0.0070) / 0.00075 - 1, abs=1e-5)
+        seen.append(rise)
+    assert len(set(seen)) == 6  # every seed draws a different scene
+
+
+def test_tolerances_change_the_built_machine_unobserved():
+    env = make(**VARIED, **SHORT)
+    env.reset(seed=3)
+    _, _, _, _, info = env.step(env.unwrapped.action_for())
+    m3, La = info["design"]["design.m3"], info["design"]["design.La"]
+    built = info["as_built"]
+    assert abs(built["design.m3"] / m3 - 1) <= 0.02 and built["design.m3"] != m3
+    assert abs(built["design.La"] - La) <= 0.0005 and built["design.La"] != La
+    env.reset(seed=4)
+    assert env.step(env.unwrapped.action_for())[4]["as_built"] != built
+
+
+def test_shaped_reward_gives_partial_credit_below_one_traversal():
+    plain = make(**SHORT)
+    action = plain.unwrapped.action_for({"design.spring_k": 2e-4})  # spring too weak: the arm misses frame 1
+    plain.reset(seed=0)
+    _, r0, _, _, info = plain.step(action)
+    assert info["outcome"] != "completed" and r0 == info["traversals"]
+    shaped = make(**SHORT, **{"env.reward_shaping": 0.5})
+    shaped.reset(seed=0)
+    _, r1, _, _, info1 = shaped.step(action)
+    expected = r0 + 0.5 * max(0.0, 1 - info1["miss_distance"] / 0.082)
+    assert r1 == pytest.approx(expected) and r0 < r1 < r0 + 0.5
+
+
+def test_a_run_the_engine_cannot_hold_earns_nothing():
+    env = make(**{"sim.iterations": 1})
+    env.reset(seed=0)
+    _, reward, _, _, info = env.step(env.unwrapped.action_for())
+    assert info["outcome"] == "unstable" and reward == 0.0
+
+
+# ---- bad actions and bad configs ----
+@pytest.mark.parametrize("action, words", [
+    ([0.0, float("nan"), 0, 0, 0], ["action[1]", "design.h", "nan", "[-1, 1]"]),
+    ([0.0, 0, 1.5, 0, 0], ["action[2]", "design.La", "1.5", "[-1, 1]"]),
+    ([0.0, 0, 0, -np.inf, 0], ["action[3]", "design.spring_k", "inf"]),
+    ([0.0, 0, 0], ["shape (3,)", "expected (5,)"]),
+    ("fast", ["action", "'fast'"]),
+])
+def test_bad_actions_get_a_clear_error(action, words):
+    env = make(**SHORT)
+    env.reset(seed=0)
+    with pytest.raises(ConfigError) as exc:
+        env.step(action)
+    for w in words:
+        assert w in str(exc.value)
+
+
+def test_clip_when_the_config_asks_for_it_but_never_nan():
+    env = make(**SHORT, **{"env.action_out_of_box": "clip"})
+    env.reset(seed=0)
+    assert env.unwrapped.design_for([0, 0, 1.5, 0, -7]) == env.unwrapped.design_for([0, 0, 1, 0, -1])
+    with pytest.raises(ConfigError, match="action\\[0\\]"):
+        env.step([float("nan"), 0, 0, 0, 0])
+
+
+def test_a_design_space_with_an_invalid_corner_fails_at_make():
+    # mu_s down to 0.1 without mu_k linked would put mu_k = 0.409 above mu_s
+    with pytest.raises(ConfigError, match="corner.*design.mu_k = 0.409: must not exceed design.mu_s = 0.1"):
+        make(tunable=[{"name": "design.mu_s", "low": 0.1, "high": 1.0}])
+    with pytest.raises(ConfigError, match="context\\[0\\].name = 'design.m3': also tunable"):
+        make(context=[{"name": "design.m3", "low": 0.005, "high": 0.008}])
+    with pytest.raises(ConfigError, match="render_mode = 'video'"):
+        AerialAcrobatEnv(render_mode="video")
+
+
+# ---- determinism ----
+DETERMINISM_SCRIPT = """
+import json, sys, numpy as np, gymnasium as gym, aero_env
+env = gym.make("aero_env/AerialAcrobat-v0", **json.loads(sys.argv[1]))
+out = []
+for seed in (0, 1, 2):
+    obs, info0 = env.reset(seed=seed)
+    env.action_space.seed(seed)
+    obs, r, term, trunc, info = env.step(env.action_space.sample())
+    out.append(dict(obs=[float(x).hex() for x in obs], reward=float(r).hex(), info=info, info0=info0))
+print(json.dumps(out))
+"""
+
+
+def _run_in_process(kwargs):
+    return json.loads(subprocess.run([sys.executable, "-c", DETERMINISM_SCRIPT, json.dumps(kwargs)],
+                                     check=True, capture_output=True, text=True).stdout)
+
+
+def test_seeded_episodes_are_bit_identical_across_processes():
+    kwargs = {**VARIED, **SHORT}
+    a, b = _run_in_process(kwargs), _run_in_process(kwargs)
+    assert a == b  # floats as hex or JSON repr: bit for bit
+    assert len({e["reward"] for e in a} | {json.dumps(e["info"]["context"]) for e in a}) > 2
+
+
+def _vector_rollout(mode):
+    envs = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode=mode, **VARIED, **SHORT)
+    try:
+        obs0, _ = envs.reset(seed=[10, 11])
+        actions = np.array([[0.2, 0.1, -0.1, 0.0, 0.0], envs.single_action_space.sample() * 0 + 0.3], np.float32)
+        obs, rew, term, trunc, info = envs.step(actions)
+        return obs0, obs, rew, term, info
+    finally:
+        envs.close()
+
+
+def test_sync_and_async_vector_envs_agree_bit_for_bit():
+    s, a = _vector_rollout("sync"), _vector_rollout("async")
+    for x, y in zip(s[:4], a[:4]):
+        assert np.array_equal(x, y)
+    assert s[4]["outcome"].tolist() == a[4]["outcome"].tolist()
+    assert s[4]["as_built"]["design.m3"].tolist() == a[4]["as_built"]["design.m3"].tolist()
+    assert all(s[3])  # every episode is one step
+
+
+def test_sb3_subproc_vec_env_matches_a_single_env():
+    from stable_baselines3.common.env_util import make_vec_env
+    from stable_baselines3.common.vec_env import SubprocVecEnv
+
+    # SB3 starts its workers with forkserver: "module:id" makes each worker import aero_env (and register it)
+    venv = make_vec_env(f"aero_env:{ENV_ID}", n_envs=2, seed=5, vec_env_cls=SubprocVecEnv, env_kwargs=dict(**SHORT))
+    try:
+        venv.reset()
+        action = make().unwrapped.action_for()
+        _, rewards, dones, infos = venv.step(np.stack([action, -np.ones(5, np.float32)]))
+    finally:
+        venv.close()
+    assert rewards.tolist() == [2.0, 0.0] and dones.all()
+    assert infos[0]["outcome"] == "completed" and "terminal_observation" in infos[0]
+
+
+# ---- checkers and rendering ----
+@pytest.fixture
+def headless(monkeypatch):
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+    monkeypatch.setenv("SDL_AUDIODRIVER", "dummy")
+
+
+def test_gymnasium_and_sb3_checkers_pass_without_warnings(headless):
+    from gymnasium.utils.env_checker import check_env
+    from stable_baselines3.common.env_checker import check_env as sb3_check_env
+
+    env = make(**VARIED, **SHORT)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_env(env.unwrapped)  # also makes the env in every render mode (human with a dummy display)
+        sb3_check_env(env.unwrapped, warn=True)
+    assert [str(w.message) for w in caught] == []
+
+
+def test_rgb_array_frames_have_a_stable_shape():
+    env = make(render_mode="rgb_array", **SHORT)
+    env.reset(seed=0)
+    start = env.render()
+    env.step(env.unwrapped.action_for())
+    after = env.render()
+    env.step(-np.ones(5, np.float32))
+    failed = env.render()
+    for frame in (start, after, failed):
+        assert frame.shape == (300, 720, 3) and frame.dtype == np.uint8
+    assert not np.array_equal(after, failed) and not np.array_equal(start, after)
+
+    listed = make(render_mode="rgb_array_list", **SHORT, **{"env.render_width": 400, "env.render_height": 200})
+    listed.reset(seed=0)
+    listed.step(listed.unwrapped.action_for())
+    frames = listed.render()
+    # the two-traversal run lasts about 1.1 s, shown 4x slower at 30 fps
+    assert len(frames) > 100 and {f.shape for f in frames} == {(200, 400, 3)}
+
+
+def test_human_mode_plays_the_run_in_a_window(headless):
+    env = make(render_mode="human", **{"scene.frames": 2})
+    env.reset(seed=0)
+    _, reward, *_ = env.step(env.unwrapped.action_for())
+    assert reward == 1 and env.render() is None and env.unwrapped._window is not None
+    env.close()
+    assert env.unwrapped._window is None
+
+
+def test_record_video_writes_a_video(tmp_path):
+    folder = tmp_path / "videos"
+    env = gym.wrappers.RecordVideo(make(render_mode="rgb_array", **SHORT), str(folder),
+                                   episode_trigger=lambda i: True, disable_logger=True)
+    for seed in range(3):
+        env.reset(seed=seed)
+        env.step(env.action_space.sample())
+    env.close()
+    videos = sorted(folder.glob("*.mp4"))
+    assert len(videos) == 3 and all(v.stat().st_size > 1000 for v in videos)
+
+
+@pytest.mark.parametrize("env_id", sorted(aero_env.registration.ENVIRONMENTS))
+def test_every_registered_variant_makes_resets_and_steps(env_id):
+    env = gym.make(env_id, **{"scene.frames": 2})
+    observations = [env.reset(seed=s)[0] for s in range(4)]
+    assert all(env.observation_space.contains(o) for o in observations)
+    _, reward, terminated, _, info = env.step(env.unwrapped.action_for())
+    assert terminated and reward in (0.0, 1.0) and info["outcome"] in ("completed", "stalled", "fell_short",
+                                                                       "missed_catch", "no_detach")
+    if "Varied" in env_id:  # the scene changes from reset to reset
+        assert len({o.tobytes() for o in observations}) == 4
