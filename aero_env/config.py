@@ -456,8 +456,8 @@ def _tolerance(entry, where, name, f, _base) -> Tolerance:
     out = {}
     for key, hi in (("relative", 0.5), ("absolute", math.inf)):
         v = _yaml_number(entry.get(key, 0.0))
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0.0 <= v <= hi):
-            raise ConfigError(f"{where}.{key} = {v!r}: must be a number in [0, {hi}]")
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0.0 <= v <= hi) or not math.isfinite(v):
+            raise ConfigError(f"{where}.{key} = {v!r}: must be a finite number in [0, {hi}]")
         out[key] = float(v)
     return Tolerance(name, **out)
 
@@ -473,11 +473,16 @@ def _check_design_problem(cfg: Config) -> None:
             raise ConfigError(f"context[{i}].name = {c.name!r}: also tunable; the designer either chooses a value "
                               f"or is given it, not both")
     given = {c.name for c in cfg.context}
+    leader: dict[str, str] = {}
     for i, t in enumerate(cfg.tunable):
         for key in t.linked:
             if key in tuned or key in given:
                 raise ConfigError(f"tunable[{i}].linked: {key!r} is itself tunable or context; it cannot also follow "
                                   f"{t.name}")
+            if key in leader:
+                raise ConfigError(f"tunable[{i}].linked: {key!r} already follows {leader[key]}; a field can follow "
+                                  f"one tunable only")
+            leader[key] = t.name
 
 
 def _check_sim(s: Sim) -> None:

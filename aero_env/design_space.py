@@ -11,9 +11,9 @@ the caller's RNG. :meth:`DesignSpace.episode_config` then builds the config that
 
     config values -> context draws -> tunable values (+ links) -> tolerances -> validated Config
 
-Every corner of that space is validated when the space is built, so an in-box action never
-produces an invalid design in the middle of training: a bad ``tunable`` range fails at once,
-naming the corner and the field.
+The corners of that space are validated when the space is built (all of them up to
+``EXHAUSTIVE_CORNERS`` varied dimensions, a fixed sample of 4096 beyond), so a bad ``tunable``
+range fails at once, naming the corner and the field, instead of in the middle of training.
 """
 
 from __future__ import annotations
@@ -58,7 +58,8 @@ class DesignSpace:
         out: dict[str, float] = {}
         for t, a in zip(self.tunables, action):
             x = (float(a) + 1.0) / 2.0
-            v = t.low * (t.high / t.low) ** x if t.scale == "log" else t.low + x * (t.high - t.low)
+            # low·(1-x) + high·x gives low and high exactly at the box's edges
+            v = t.low * (t.high / t.low) ** x if t.scale == "log" else t.low * (1.0 - x) + t.high * x
             v = min(max(v, t.low), t.high)  # rounding must never step outside the declared range
             out[t.name] = v
             if t.linked:
@@ -70,6 +71,12 @@ class DesignSpace:
     def action_for(self, values: Mapping[str, float] | None = None) -> np.ndarray:
         """The action (float32) whose design is ``values`` (by dotted key; missing keys: the config's value)."""
         values = dict(values or {})
+        tuned = {t.name for t in self.tunables}
+        for key in values:
+            if key not in tuned:
+                linked = [t.name for t in self.tunables if key in t.linked]
+                why = f"it follows {linked[0]} (linked)" if linked else "it is not tunable"
+                raise ConfigError(f"action_for: {key!r} cannot be chosen, {why}; tunable fields: {sorted(tuned)}")
         a = np.empty(self.dim, dtype=np.float32)
         for i, t in enumerate(self.tunables):
             v = float(values.get(t.name, self.cfg.value(t.name)))
@@ -82,13 +89,18 @@ class DesignSpace:
     def check_action(self, action, clip: bool) -> np.ndarray:
         """``action`` as a float64 vector in the box, or a ConfigError naming the bad dimension."""
         try:
-            a = np.asarray(action, dtype=np.float64)
+            raw = np.asarray(action)
         except (TypeError, ValueError):
-            raise ConfigError(f"action = {action!r}: must be {self.dim} numbers in [-1, 1]") from None
+            raw = np.asarray(None, dtype=object)
+        if raw.dtype.kind not in "iuf":  # booleans, strings, None and objects are not positions in the box
+            raise ConfigError(f"action = {action!r}: must be {self.dim} numbers in [-1, 1] (an integer or float "
+                              f"array), got {'dtype ' + str(raw.dtype) if raw.dtype != object else 'non-numbers'}")
+        a = raw.astype(np.float64)
         if a.shape != (self.dim,):
             raise ConfigError(f"action has shape {a.shape}: expected ({self.dim},), one value per tunable "
                               f"({', '.join(t.name for t in self.tunables)})")
         for i, (v, t) in enumerate(zip(a, self.tunables)):
+            v = float(v)
             if not math.isfinite(v):
                 raise ConfigError(f"action[{i}] ({t.name}) = {v!r}: must be a finite number in [-1, 1]")
             if not clip and abs(v) > 1.0:

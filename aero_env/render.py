@@ -8,6 +8,7 @@ from __future__ import annotations
 import csv
 import math
 from pathlib import Path
+from typing import Iterator
 
 import numpy as np
 
@@ -141,11 +142,16 @@ def _need_poses(result: SimResult) -> None:
         raise ValueError("this result has no poses: simulate(..., poses_every=...)")
 
 
-def draw_frames(result: SimResult, width: int = 720, height: int = 300, every: int = 1) -> list[np.ndarray]:
-    """Render the recorded poses as a list of RGB numpy arrays (height, width, 3)."""
+def iter_frames(result: SimResult, width: int = 720, height: int = 300, every: int = 1) -> Iterator[np.ndarray]:
+    """The recorded poses as RGB numpy arrays (height, width, 3), drawn one at a time."""
     _need_poses(result)
     canvas = Canvas(result.geometry, width, height)
-    return [canvas.draw(pose) for pose in result.poses[::every]]
+    return (canvas.draw(pose) for pose in result.poses[::every])
+
+
+def draw_frames(result: SimResult, width: int = 720, height: int = 300, every: int = 1) -> list[np.ndarray]:
+    """Render the recorded poses as a list of RGB numpy arrays (height, width, 3)."""
+    return list(iter_frames(result, width, height, every))
 
 
 def draw_summary(result: SimResult, width: int = 720, height: int = 300) -> np.ndarray:

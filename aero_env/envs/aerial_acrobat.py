@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Iterable, Mapping
 
 import gymnasium as gym
 import numpy as np
@@ -12,7 +12,7 @@ from gymnasium import spaces
 from ..config import Config, ConfigError, load_config
 from ..design_space import DesignSpace, Draw
 from ..physics import SimResult, World, simulate
-from ..render import ANIMATION_FPS, Canvas, draw_frames, draw_summary, pose_interval
+from ..render import ANIMATION_FPS, Canvas, draw_frames, draw_summary, iter_frames, pose_interval
 
 __all__ = ["AerialAcrobatEnv"]
 
@@ -193,13 +193,12 @@ class AerialAcrobatEnv(gym.Env):
         r = self._result
         if self.render_mode == "rgb_array":
             return self._start_frame() if r is None else draw_summary(r, *self._size())
-        frames = [self._start_frame()] if r is None else draw_frames(r, *self._size())
         if self.render_mode == "rgb_array_list":
-            return frames
-        self._show(frames)
+            return [self._start_frame()] if r is None else draw_frames(r, *self._size())
+        self._show([self._start_frame()] if r is None else iter_frames(r, *self._size()))  # drawn as shown
         return None
 
-    def _show(self, frames: list[np.ndarray]) -> None:
+    def _show(self, frames: Iterable[np.ndarray]) -> None:
         import pygame
 
         if self._window is None:

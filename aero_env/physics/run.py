@@ -109,8 +109,8 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
     e_tol = sim.energy_tolerance * (d.m2 + d.m3) * units.GRAVITY * (d.La + d.Lb)
 
     rows: list[tuple] = []
-    poses: list = []
     pose_steps = max(1, round(poses_every / sim.dt)) if poses_every else 0
+    poses: list = [(0.0, *world.pose())] if pose_steps else []
     e0 = world.energy()
     max_gain, e_min, max_rise = 0.0, e0, 0.0
     swings = [Swing(0, 0.0, math.degrees(frames[0].theta), math.degrees(robot.theta2()))]
@@ -217,6 +217,8 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
         if pose_steps and n % pose_steps == 0:
             poses.append((t, *world.pose()))
 
+    if pose_steps and poses[-1][0] < world.t:  # the run's last moment, whatever the pose cadence
+        poses.append((world.t, *world.pose()))
     traversals = len(swings) - 1
     if flight is None and swings[-1].theta2_min_deg is None:
         swings[-1].theta2_min_deg, swings[-1].theta2_max_deg = th2_lo, th2_hi
