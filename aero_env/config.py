@@ -361,7 +361,7 @@ def from_dict(data: Mapping[str, Any] | None, overrides: Mapping[str, Any] | Non
     if unknown:
         raise ConfigError(f"{unknown[0]}: unknown section; allowed sections are {sorted(SECTIONS | LIST_SECTIONS)}")
     sections = {name: _build(cls, tree.get(name), name) for name, cls in SECTIONS.items()}
-    lists = {name: _build_list(name, tree[name], sections) for name in LIST_SECTIONS if name in tree}
+    lists = {name: _build_list(name, tree[name]) for name in LIST_SECTIONS if name in tree}
     cfg = Config(**sections, **lists)
     _check_design(cfg.design)
     _check_sim(cfg.sim)
@@ -382,7 +382,7 @@ def real_field(key: Any, where: str) -> dataclasses.Field:
     return f
 
 
-def _build_list(section: str, data: Any, sections: Mapping[str, Any]) -> tuple:
+def _build_list(section: str, data: Any) -> tuple:
     """Validate one list section (tunable, context or tolerance) entry by entry."""
     cls = LIST_SECTIONS[section]
     if not isinstance(data, (list, tuple)):
@@ -404,8 +404,7 @@ def _build_list(section: str, data: Any, sections: Mapping[str, Any]) -> tuple:
         if name in seen:
             raise ConfigError(f"{where}.name = {name!r}: listed twice in {section}")
         seen.add(name)
-        base = getattr(sections[name.split(".")[0]], name.split(".")[1])
-        items.append(_ITEM_BUILDERS[section](entry, where, name, f, base))
+        items.append(_ITEM_BUILDERS[section](entry, where, name, f))
     return tuple(items)
 
 
@@ -414,7 +413,7 @@ def _bound(entry: Mapping, key: str, where: str, name: str, f: dataclasses.Field
     return _check_value(f"{where}.{key} (a value of {name})", f, entry[key])
 
 
-def _tunable(entry, where, name, f, base) -> Tunable:
+def _tunable(entry, where, name, f) -> Tunable:
     for key in ("low", "high"):
         if key not in entry:
             raise ConfigError(f"{where}.{key}: missing; the value of {name} at action {'-1' if key == 'low' else '+1'}")
@@ -434,13 +433,10 @@ def _tunable(entry, where, name, f, base) -> Tunable:
         real_field(key, f"{where}.linked[{j}]")
         if key == name:
             raise ConfigError(f"{where}.linked[{j}] = {key!r}: a field cannot be linked to itself")
-    if linked and base <= 0:
-        raise ConfigError(f"{where}.linked: the links scale by {name} / its config value, which is {base!r}; "
-                          f"allowed only when that value is > 0")
     return Tunable(name, low, high, scale, tuple(str(k) for k in linked))
 
 
-def _context(entry, where, name, f, _base) -> ContextRange:
+def _context(entry, where, name, f) -> ContextRange:
     has_low, has_high = entry.get("low") is not None, entry.get("high") is not None
     if has_low != has_high:
         raise ConfigError(f"{where}: give both low and high (drawn uniformly at reset), or neither (fixed)")
@@ -452,7 +448,7 @@ def _context(entry, where, name, f, _base) -> ContextRange:
     return ContextRange(name, low, high)
 
 
-def _tolerance(entry, where, name, f, _base) -> Tolerance:
+def _tolerance(entry, where, name, f) -> Tolerance:
     out = {}
     for key, hi in (("relative", 0.5), ("absolute", math.inf)):
         v = _yaml_number(entry.get(key, 0.0))

@@ -50,6 +50,10 @@ class DesignSpace:
         self.obs_dim = len(self.context)
         if self.obs_dim == 0:
             raise ConfigError("context: empty; the observation needs at least one field (e.g. scene.rise)")
+        for i, t in enumerate(self.tunables):
+            if t.linked and cfg.value(t.name) <= 0:  # checked here, not at load: simulate ignores tunables
+                raise ConfigError(f"tunable[{i}].linked: the links scale by {t.name} / its config value, which is "
+                                  f"{cfg.value(t.name)!r}; allowed only when that value is > 0")
         self._check_corners()
 
     # ---- actions <-> designs ----

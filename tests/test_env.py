@@ -340,3 +340,13 @@ def test_every_registered_variant_makes_resets_and_steps(env_id):
                                                                        "missed_catch", "no_detach")
     if "Varied" in env_id:  # the scene changes from reset to reset
         assert len({o.tobytes() for o in observations}) == 4
+
+
+def test_the_design_problem_never_blocks_a_plain_simulation(paper_cfg):
+    # mu_s = 0 makes the default mu_s -> mu_k link meaningless: simulate still runs, the env refuses
+    cfg = paper_cfg.replace({"design.mu_s": 0.0, "design.mu_k": 0.0, "scene.frames": 2})
+    from aero_env.physics import simulate
+
+    assert simulate(cfg).outcome == "fell_short"
+    with pytest.raises(ConfigError, match="tunable\\[4\\].linked: the links scale by design.mu_s"):
+        make(config=cfg)
