@@ -127,10 +127,18 @@ class Sim:
     stop_hold: float = spec(0.3, "s", "time hooked at the end stop before the run is no_detach", 0.0, 10.0, lo_open=True)
     t_max: float = spec(60.0, "s", "hard limit on simulated time for a run", 0.0, 3600.0, lo_open=True)
     energy_tolerance: float = spec(0.005, "-", "largest rise of mechanical energy above its running minimum before "
-                                   "'unstable', as a fraction of (m2 + m3)·g·(La + Lb)", 0.0, 1.0, lo_open=True)
+                                   "'unstable', as a fraction of (m2 + m3)·g·(La + Lb) + the spring's energy "
+                                   "fully bent", 0.0, 1.0, lo_open=True)
     check_every: int = spec(2, "-", "check energy and finiteness every this many steps", 1, 1000)
     min_release_height: float = spec(0.01, "m", "a hook letting go lower than this above the next handrail has fallen short", 0.0, 1.0)
     max_speed: float = spec(20.0, "m/s", "any body faster than this is 'unstable'", 0.0, 1e4, lo_open=True)
+    max_joint_drift: float = spec(1e-3, "m", "a frame skewer, the arm's axle or a pinned hook coming apart by more "
+                                  "than this is 'unstable'", 0.0, 0.1, lo_open=True)
+    max_limit_overshoot_deg: float = spec(5.0, "deg", "a frame or the arm turning past its stopper by more than "
+                                          "this is 'unstable'", 0.0, 90.0, lo_open=True)
+    max_penetration: float = spec(0.8, "-", "the hook sinking into a handrail card deeper than this fraction of "
+                                  "hook_radius + half the card is 'unstable' (at 1 its centre reaches the card's "
+                                  "middle and it tunnels through)", 0.0, 1.0, lo_open=True)
     trace_every: int = spec(2, "-", "record the trace every this many steps", 1, 100000)
 
 

@@ -1,6 +1,12 @@
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
+
+# Property tests: 300 examples each in CI; `pytest --hypothesis-profile=deep` tries 3000.
+settings.register_profile("ci", max_examples=300)
+settings.register_profile("deep", max_examples=3000)
+settings.load_profile("ci")
 
 from aero_env.config import load_config
 from aero_env.physics import simulate

@@ -82,7 +82,7 @@ class AerialAcrobatEnv(gym.Env):
     the first failed transfer or at the catch by the last frame, and always within
     ``sim.t_max``. ``info`` holds the run as ``aero-env simulate --json`` prints it (``outcome``,
     ``reason``, ``traversals``, ``frames``, ``swings``, ``energy``, ``sim_time``,
-    ``miss_distance``) except ``wall_time``, which would break determinism, plus ``design``
+    ``miss_distance``, ``health``) except ``wall_time``, which would break determinism, plus ``design``
     (the tunable and linked values chosen, SI), ``context`` (SI) and ``as_built`` (the fields the
     tolerances changed, as simulated, SI).
 

@@ -94,6 +94,9 @@ class HookContact:
     def touches(self, frame_index: int) -> bool:
         return frame_index in self.touching
 
+    def joint_drift(self) -> float:
+        return 0.0  # a contact, not a joint: its error is the hook's penetration (SwingFrame.penetration)
+
 
 class PinnedHook:
     """The pinned-hook scene: the robot's hook is a pin joint at frame 0's handrail (no friction,
@@ -104,7 +107,11 @@ class PinnedHook:
 
     def __init__(self, robot, frame):
         self.frame_index = frame.index
+        self.frame, self.robot = frame, robot
         self.joint = pymunk.PivotJoint(frame.body, robot.bodies[0], frame.hook_seat_local, robot.hook_local)
+
+    def joint_drift(self) -> float:
+        return (self.frame.hook_seat_world() - self.robot.hook_world()).length
 
     def add_to(self, space: pymunk.Space) -> None:
         space.add(self.joint)

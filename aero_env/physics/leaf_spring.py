@@ -33,9 +33,15 @@ class LinearLeafSpring:
     def torque(self, da: float) -> float:
         return self.k * da
 
-    def energy(self) -> float:
-        da = self.robot.alpha - self.alpha_min
+    def energy_at(self, da: float) -> float:
         return 0.5 * self.k * da * da
+
+    def energy(self) -> float:
+        return self.energy_at(self.robot.alpha - self.alpha_min)
+
+    def capacity(self, alpha_max: float) -> float:
+        """The energy stored fully bent."""
+        return self.energy_at(alpha_max - self.alpha_min)
 
 
 class StiffeningLeafSpring(LinearLeafSpring):
@@ -55,9 +61,8 @@ class StiffeningLeafSpring(LinearLeafSpring):
     def torque(self, da: float) -> float:
         return 0.5 * self.k * da * abs(da)
 
-    def energy(self) -> float:
-        da = abs(self.robot.alpha - self.alpha_min)
-        return self.k * da**3 / 6.0
+    def energy_at(self, da: float) -> float:
+        return self.k * abs(da) ** 3 / 6.0
 
 
 SPRING_LAWS = {"linear": LinearLeafSpring, "stiffening": StiffeningLeafSpring}
@@ -72,4 +77,7 @@ class NoSpring:
         pass
 
     def energy(self) -> float:
+        return 0.0
+
+    def capacity(self, _alpha_max: float) -> float:
         return 0.0

@@ -97,6 +97,16 @@ class Robot:
         """(axle position, torso angle, arm angle), engine units."""
         return self.torso.position, self.torso.angle, self.arm.angle
 
+    # -- health --
+    def joint_drift(self) -> float:
+        """Separation of torso and arm at the axle (both bodies have their origin there)."""
+        return (self.torso.position - self.arm.position).length
+
+    def limit_overshoot(self) -> float:
+        """How far alpha is past the arm's stopper at either end (radians)."""
+        a = self.alpha
+        return max(0.0, a - self.p.alpha_max, self.p.alpha_min - a)
+
 
 class RigidRobot:
     """The two-link model's robot for the pinned-hook scene: one rigid body, mass m2 and inertia I2
@@ -141,3 +151,9 @@ class RigidRobot:
     def pose(self):
         """Drawn as a torso hanging from the hook towards the centre of mass."""
         return self.body.position, self.body.angle + 1.5 * math.pi, self.body.angle
+
+    def joint_drift(self) -> float:
+        return 0.0  # one rigid body: no joint of its own
+
+    def limit_overshoot(self) -> float:
+        return 0.0

@@ -60,6 +60,7 @@ class SimResult:
     sim_time: float
     wall_time: float
     miss_distance: float | None = None  # m: closest the hook came to the next handrail's seat in the failed transfer
+    health: dict = field(default_factory=dict)  # largest joint drift (m), limit overshoot (deg), penetration (m)
     trace: dict | None = field(default=None, repr=False)
     poses: list | None = field(default=None, repr=False)
     geometry: dict | None = field(default=None, repr=False)
@@ -68,7 +69,8 @@ class SimResult:
         """The fields of ``aero-env simulate --json`` (no trace or poses)."""
         return dict(traversals=self.traversals, frames=self.frames, outcome=self.outcome, reason=self.reason,
                     swings=[asdict(s) for s in self.swings], energy=dict(self.energy),
-                    sim_time=self.sim_time, wall_time=self.wall_time, miss_distance=self.miss_distance)
+                    sim_time=self.sim_time, wall_time=self.wall_time, miss_distance=self.miss_distance,
+                    health=dict(self.health))
 
 
 class _Flight:
@@ -106,7 +108,12 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
     hold = sim.contact_hold
     half_range = 0.5 * (p.alpha_max - p.alpha_min)
     snapped_alpha = p.alpha_min + half_range
-    e_tol = sim.energy_tolerance * (d.m2 + d.m3) * units.GRAVITY * (d.La + d.Lb)
+    # The energy scale of the machine: the robot and counterbalance falling the frame's length, plus
+    # what the fully bent spring stores (a stiff spring moves far more energy than gravity does).
+    e_tol = sim.energy_tolerance * ((d.m2 + d.m3) * units.GRAVITY * (d.La + d.Lb) + world.spring_capacity())
+    worst = [0.0, 0.0, 0.0]  # joint drift (m), limit overshoot (rad), penetration (m)
+    limits = (sim.max_joint_drift, math.radians(sim.max_limit_overshoot_deg),
+              sim.max_penetration * units.length_to_si(p.hook_radius + p.rail_radius))
 
     rows: list[tuple] = []
     pose_steps = max(1, round(poses_every / sim.dt)) if poses_every else 0
@@ -206,9 +213,14 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
             max_rise = max(max_rise, e - e_min)
             if max_rise > e_tol:
                 outcome, reason = "unstable", (f"mechanical energy rose by {max_rise:.3g} J, above the tolerance "
-                                               f"{e_tol:.3g} J (sim.energy_tolerance): numerical error")
+                                               f"{e_tol:.3g} J (sim.energy_tolerance): numerical error (try a smaller sim.dt "
+                                               f"or more sim.iterations)")
                 break
             closest = min(closest, (robot.hook_world() - next_seat).length)
+            bad = _health_check(world.health(), worst, limits)
+            if bad:
+                outcome, reason = "unstable", bad
+                break
             if flight is None:
                 th2d = math.degrees(th2)
                 th2_lo, th2_hi = min(th2_lo, th2d), max(th2_hi, th2d)
@@ -228,10 +240,30 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
         energy=dict(initial=e0, final=e_final, max_gain=max(max_gain, e_final - e0), max_rise=max_rise),
         sim_time=world.t, wall_time=time.perf_counter() - wall0,
         miss_distance=None if outcome == "completed" or not math.isfinite(closest) else units.length_to_si(closest),
+        health=dict(joint_drift=worst[0], limit_overshoot_deg=math.degrees(worst[1]), penetration=worst[2]),
         trace={c: np.array(v) for c, v in zip(TRACE_COLUMNS, zip(*rows))} if trace and rows else None,
         poses=poses if pose_steps else None,
         geometry=world.geometry() if pose_steps else None,
     )
+
+
+_HEALTH_WORDS = (
+    ("joint drift", "sim.max_joint_drift", 1e3, "mm", "a skewer or the arm's axle came apart"),
+    ("limit overshoot", "sim.max_limit_overshoot_deg", 180 / math.pi, "deg", "a body turned through its stopper"),
+    ("penetration", "sim.max_penetration (as a depth)", 1e3, "mm", "the hook sank into (or through) a handrail card"),
+)
+
+
+def _health_check(measured: tuple, worst: list, limits: tuple) -> str | None:
+    """Update the worst values; name the first constraint that gave more than its tolerance."""
+    for i, (v, lim) in enumerate(zip(measured, limits)):
+        if v > worst[i]:
+            worst[i] = v
+        if v > lim:
+            what, key, scale, unit, meaning = _HEALTH_WORDS[i]
+            return (f"{what} {v * scale:.3g} {unit} above {key} = {lim * scale:.3g} {unit}: {meaning}; "
+                    f"the engine could not hold the constraint (try a smaller sim.dt or more sim.iterations)")
+    return None
 
 
 def _trace_row(world: World, t: float, th2: float, e: float) -> tuple:

@@ -86,5 +86,19 @@ class SwingFrame:
     def hook_seat_world(self) -> pymunk.Vec2d:
         return self.body.local_to_world(self.hook_seat_local)
 
+    # -- health: how far the solver lets the skewers give (engine units, radians) --
+    def pivot_drift(self) -> float:
+        """Distance between the frame's axis point and its skewer."""
+        return (self.body.position - self.axis).length
+
+    def limit_overshoot(self) -> float:
+        """How far the frame has turned past its stopper or below its rest angle."""
+        a = self.body.angle
+        return max(0.0, a - self.stop_angle, self.rest_angle - a)
+
+    def penetration(self, point: pymunk.Vec2d, radius: float) -> float:
+        """How deep a circle at ``point`` sits inside this frame's handrail card (0 when outside)."""
+        return max(0.0, max(radius - seg.point_query(point).distance for seg in self.shapes))
+
     def at_stop(self, tol: float = 1e-3) -> bool:
         return self.body.angle >= self.stop_angle - tol

@@ -72,14 +72,24 @@ class World:
         """Make frame i the robot's frame: keep i-1 (still turning), i and live_ahead frames ahead."""
         self.active = i
         lo, hi = max(0, i - 1), min(len(self.frames) - 1, i + self.live_ahead)
-        for f in self.frames:
-            if lo <= f.index <= hi:
-                f.attach(self.space)
-            else:
+        if not hasattr(self, "_live"):  # first call: every frame is parked, at rest
+            self._live = []
+            self._parked_energy = sum(self._body_energy(f.body) for f in self.frames)
+        # Frames out of the space do not move: their energy is booked once as they park or leave the
+        # park, so neither a check nor a catch costs more on a longer row.
+        window = self.frames[lo:hi + 1]
+        for f in self._live:
+            if not lo <= f.index <= hi:
                 f.retire(self.space)
+                self._parked_energy += self._body_energy(f.body)
+        for f in window:
+            if not f.live:
+                self._parked_energy -= self._body_energy(f.body)
+                f.attach(self.space)
+        self._live = window
 
     def live_frames(self):
-        return [f for f in self.frames if f.live]
+        return list(self._live)
 
     # -- stepping --
     def step(self) -> None:
@@ -98,17 +108,38 @@ class World:
         Frames outside the space are at rest (ahead) or at their stop (behind): their potential
         energy is constant and still counted, so the total is comparable across window moves.
         """
-        g = self.p.gravity
-        e = self.spring.energy()
-        for b in [f.body for f in self.frames] + list(self.robot.bodies):
-            v = b.velocity
-            w = b.angular_velocity
-            e += 0.5 * (b.mass * (v.x * v.x + v.y * v.y) + b.moment * w * w)
-            e += b.mass * g * b.local_to_world(b.center_of_gravity).y
+        e = self.spring.energy() + self._parked_energy
+        for f in self._live:
+            e += self._body_energy(f.body)
+        for b in self.robot.bodies:
+            e += self._body_energy(b)
         return units.energy_to_si(e)
 
+    def _body_energy(self, b: pymunk.Body) -> float:
+        v = b.velocity
+        w = b.angular_velocity
+        return (0.5 * (b.mass * (v.x * v.x + v.y * v.y) + b.moment * w * w)
+                + b.mass * self.p.gravity * b.local_to_world(b.center_of_gravity).y)
+
+    def spring_capacity(self) -> float:
+        """Energy (J) the spring stores fully bent, at alpha_max."""
+        return units.energy_to_si(self.spring.capacity(self.p.alpha_max))
+
     def max_speed(self) -> float:
-        return max(b.velocity.length for b in (*self.robot.bodies, *(f.body for f in self.frames if f.live)))
+        return max(b.velocity.length for b in (*self.robot.bodies, *(f.body for f in self._live)))
+
+    def health(self) -> tuple[float, float, float]:
+        """How far the solver lets the machine's constraints give, in SI: (joint drift in m: frame
+        skewers, robot axle, pinned hook; limit overshoot in rad: frame stoppers, arm stopper;
+        hook penetration into a handrail card in m). Near zero in a healthy run."""
+        drift = max(self.robot.joint_drift(), self.contact.joint_drift(),
+                    max(f.pivot_drift() for f in self._live))
+        over = max(self.robot.limit_overshoot(), max(f.limit_overshoot() for f in self._live))
+        pen = 0.0
+        if self.cfg.scene.effects.hook == "contact":
+            hook, r = self.robot.hook_world(), self.p.hook_radius
+            pen = max(f.penetration(hook, r) for f in self._live)
+        return units.length_to_si(drift), over, units.length_to_si(pen)
 
     def geometry(self) -> dict:
         """The machine's fixed geometry in SI, for drawing."""
