@@ -61,6 +61,8 @@ class World:
         space.add(floor)
 
         self.active = -1
+        self._live: list[SwingFrame] = []  # every frame starts parked, at rest
+        self._parked_energy = sum(self._body_energy(f.body) for f in self.frames)
         self.set_active(0)
         self.robot.place_hanging(self.frames[0].hook_seat_world(), p.theta2_start, p.alpha_max)
         self.contact.add_to(space)  # after placing: a pin joint anchors where the bodies are
@@ -72,9 +74,6 @@ class World:
         """Make frame i the robot's frame: keep i-1 (still turning), i and live_ahead frames ahead."""
         self.active = i
         lo, hi = max(0, i - 1), min(len(self.frames) - 1, i + self.live_ahead)
-        if not hasattr(self, "_live"):  # first call: every frame is parked, at rest
-            self._live = []
-            self._parked_energy = sum(self._body_energy(f.body) for f in self.frames)
         # Frames out of the space do not move: their energy is booked once as they park or leave the
         # park, so neither a check nor a catch costs more on a longer row.
         window = self.frames[lo:hi + 1]
