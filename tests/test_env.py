@@ -10,6 +10,7 @@ import warnings
 import gymnasium as gym
 import numpy as np
 import pytest
+from gymnasium.utils.env_checker import data_equivalence
 
 import aero_env  # noqa: F401  (registers the environments)
 from aero_env.config import ConfigError, load_config
@@ -226,21 +227,14 @@ def _vector_rollout(mode):
         envs.close()
 
 
-def _same(x, y) -> bool:
-    """Exact equality of (nested) vector-env infos: dicts of arrays, object arrays of lists and dicts."""
-    if isinstance(x, dict):
-        return x.keys() == y.keys() and all(_same(x[k], y[k]) for k in x)
-    if isinstance(x, np.ndarray) and x.dtype != object:
-        return x.dtype == y.dtype and np.array_equal(x, y)
-    return json.dumps(np.asarray(x).tolist()) == json.dumps(np.asarray(y).tolist())
-
-
 def test_sync_and_async_vector_envs_agree_bit_for_bit():
     s, a = _vector_rollout("sync"), _vector_rollout("async")
     for x, y in zip(s[:4], a[:4]):
         assert np.array_equal(x, y)
-    assert _same(s[4], a[4]) and {"outcome", "swings", "energy", "design", "as_built"} <= set(s[4])
-    assert not _same(s[4]["design"], {k: v[::-1] for k, v in s[4]["design"].items()})  # the check can fail
+    assert data_equivalence(s[4], a[4], exact=True)  # every info field, nested lists and dicts included
+    assert {"outcome", "swings", "energy", "design", "as_built"} <= set(s[4])
+    reversed_design = {k: v[::-1] for k, v in s[4]["design"].items()}
+    assert not data_equivalence(s[4]["design"], reversed_design, exact=True)  # the check can fail
     assert all(s[3])  # every episode is one step
 
 

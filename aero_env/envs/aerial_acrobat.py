@@ -156,7 +156,7 @@ class AerialAcrobatEnv(gym.Env):
         return self.space.observation(self._draw), {"context": dict(self._draw.context)}
 
     def step(self, action):
-        design = self.space.values(self.space.check_action(action, self._clip))
+        design = self.design_for(action)
         cfg, built = self.space.episode_config(design, self._draw)
         slowmo = cfg.env.render_slowmo
         result = simulate(cfg, poses_every=pose_interval(slowmo) if self.render_mode else None)

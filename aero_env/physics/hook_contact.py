@@ -68,6 +68,7 @@ class HookContact:
         # Handrail shape -> frame index. pymunk hands callbacks the same shape objects we created.
         self.frame_of_shape = {shape: f.index for f in frames for shape in f.shapes}
         self.touching: dict[int, int] = {}  # frame index -> number of touching faces
+        self.hook_shape = hook_shape
         hook_shape.friction = law.initial  # pair coefficient = product of the shapes' (handrails carry 1.0)
 
     def add_to(self, space: pymunk.Space) -> None:
@@ -95,7 +96,13 @@ class HookContact:
         return frame_index in self.touching
 
     def joint_drift(self) -> float:
-        return 0.0  # a contact, not a joint: its error is the hook's penetration (SwingFrame.penetration)
+        return 0.0  # a contact, not a joint: its error is the hook's penetration
+
+    def penetration(self, frames) -> float:
+        """How deep the hook sits inside the handrail card of any of ``frames`` (engine units)."""
+        hook = self.hook_shape
+        centre = hook.body.local_to_world(hook.offset)
+        return max(f.penetration(centre, hook.radius) for f in frames)
 
 
 class PinnedHook:
@@ -112,6 +119,9 @@ class PinnedHook:
 
     def joint_drift(self) -> float:
         return (self.frame.hook_seat_world() - self.robot.hook_world()).length
+
+    def penetration(self, _frames) -> float:
+        return 0.0  # no contact shape: the hook is a joint
 
     def add_to(self, space: pymunk.Space) -> None:
         space.add(self.joint)

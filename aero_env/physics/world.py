@@ -134,10 +134,7 @@ class World:
         drift = max(self.robot.joint_drift(), self.contact.joint_drift(),
                     max(f.pivot_drift() for f in self._live))
         over = max(self.robot.limit_overshoot(), max(f.limit_overshoot() for f in self._live))
-        pen = 0.0
-        if self.cfg.scene.effects.hook == "contact":
-            hook, r = self.robot.hook_world(), self.p.hook_radius
-            pen = max(f.penetration(hook, r) for f in self._live)
+        pen = self.contact.penetration(self._live)
         return units.length_to_si(drift), over, units.length_to_si(pen)
 
     def geometry(self) -> dict:
