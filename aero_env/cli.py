@@ -66,6 +66,9 @@ def _table(r) -> str:
                  f"wall ({r.sim_time / max(r.wall_time, 1e-9):.1f}x real time)")
     lines.append(f"energy: initial {e['initial']:.6f} J, final {e['final']:.6f} J, max gain {e['max_gain']:.2e} J, "
                  f"max rise {e['max_rise']:.2e} J")
+    h = r.health
+    lines.append(f"health: joint drift {h['joint_drift'] * 1e3:.2f} mm, stopper overshoot "
+                 f"{h['limit_overshoot_deg']:.2f} deg, hook in a handrail {h['penetration'] * 1e3:.2f} mm (worst)")
     return "\n".join(lines)
 
 
