@@ -3,6 +3,10 @@
     aero-env simulate CONFIG [--set KEY=VALUE ...] [--json] [--trace FILE.csv] [--plot FILE.png] [--gif FILE.gif]
     aero-env compare CONFIG [--set KEY=VALUE ...] [--json] [--plot FILE.png] [--domain-map FILE.png]
     aero-env schema          # every config key with its default, unit, range and meaning
+
+Packages add subcommands through the ``aero_env.commands`` entry-point group: each entry is a
+function ``register(subparsers, scene_command)``. The design agents (``aero-env tune``,
+``train``, ``evaluate``) come in that way, so this package never imports them.
 """
 
 from __future__ import annotations
@@ -10,10 +14,12 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from importlib.metadata import entry_points
 
 from .config import ConfigError, load_config, parse_override, schema_rows
 
-def _load(args):
+def load_scene(args):
+    """The config a scene command names, with its ``--set`` overrides applied."""
     overrides = dict(parse_override(s) for s in args.set or [])
     return load_config(args.config, overrides)
 
@@ -22,7 +28,7 @@ def cmd_simulate(args) -> int:
     from .physics import simulate
     from .render import pose_interval
 
-    cfg = _load(args)
+    cfg = load_scene(args)
     want_trace = bool(args.trace or args.plot)
     result = simulate(cfg, trace=want_trace, poses_every=pose_interval(cfg.env.render_slowmo) if args.gif else None)
     if args.trace:
@@ -77,7 +83,7 @@ def cmd_compare(args) -> int:
 
     from . import compare as cmp
 
-    cfg = _load(args)
+    cfg = load_scene(args)
     summary, runs = cmp.compare(cfg)
     if args.plot:
         cmp.plot_comparison(runs, args.plot)
@@ -143,6 +149,8 @@ def build_parser() -> argparse.ArgumentParser:
     cp.set_defaults(func=cmd_compare)
     sc = sub.add_parser("schema", help="print the config schema as a Markdown table")
     sc.set_defaults(func=cmd_schema)
+    for entry in sorted(entry_points(group="aero_env.commands"), key=lambda e: e.name):
+        entry.load()(sub, _scene_command)
     return ap
 
 

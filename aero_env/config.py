@@ -217,6 +217,10 @@ class Config:
         """Plain dicts and lists (YAML-ready); ``from_dict(cfg.to_dict())`` gives ``cfg`` back."""
         return _plain(dataclasses.asdict(self))
 
+    def to_yaml(self) -> str:
+        """The whole config as YAML that :func:`load_config` reads back to an equal config."""
+        return yaml.safe_dump(self.to_dict(), sort_keys=False)
+
     def value(self, key: str) -> float:
         """A real-valued field by dotted key, e.g. ``cfg.value("design.m3")``."""
         section, name = key.split(".", 1)

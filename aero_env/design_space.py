@@ -44,6 +44,7 @@ class DesignSpace:
         self.tunables = cfg.tunable
         self.context = cfg.context
         self.tolerances = tuple(t for t in cfg.tolerance if t.relative > 0 or t.absolute > 0)
+        self.varied_context = tuple(c for c in self.context if c.low is not None and c.high > c.low)
         self.dim = len(self.tunables)
         if self.dim == 0:
             raise ConfigError("tunable: empty; the action space needs at least one tunable field")
@@ -113,6 +114,11 @@ class DesignSpace:
         return np.clip(a, -1.0, 1.0)
 
     # ---- context and tolerances ----
+    @property
+    def draws_anything(self) -> bool:
+        """Whether a reset draws anything (a varied context or a tolerance): if not, every seed is alike."""
+        return bool(self.tolerances or self.varied_context)
+
     def draw(self, rng: np.random.Generator) -> Draw:
         u = rng.random(len(self.context) + len(self.tolerances))
         ctx = {}
@@ -146,7 +152,7 @@ class DesignSpace:
     # ---- validation ----
     def _check_corners(self) -> None:
         """Every corner of actions x context x tolerances must be a valid design."""
-        varied_ctx = [c for c in self.context if c.low is not None and c.high > c.low]
+        varied_ctx = self.varied_context
         n = self.dim + len(varied_ctx) + len(self.tolerances)
         signs = [(-1.0, 1.0)] * n
         if n <= EXHAUSTIVE_CORNERS:

@@ -1,4 +1,6 @@
-"""Design agents (black-box tuning and RL) live here; they arrive with the agents issue.
+"""Design agents: black-box tuning (:mod:`agents.tune`, Optuna) and RL (:mod:`agents.rl`, SB3).
 
-They use the environment and the physics; nothing in ``aero_env`` imports this package.
+Both score designs through the environment (:mod:`agents.design_eval`). They use ``aero_env``;
+nothing in ``aero_env`` imports this package (its ``aero-env`` subcommands plug in through the
+``aero_env.commands`` entry point, :mod:`agents.commands`).
 """

@@ -146,6 +146,10 @@ def test_design_problem_sections_load_and_round_trip(tmp_path):
 
     assert from_dict(cfg.to_dict()) == cfg
     assert load_config(PAPER, {"tunable": cfg.to_dict()["tunable"]}).tunable == cfg.tunable
+    # the YAML a tuner or a training run writes reads back to the same config, every float exact
+    (tmp_path / "again.yaml").write_text(cfg.with_values({"design.m3": 0.1 / 3}).to_yaml())
+    again = load_config(tmp_path / "again.yaml")
+    assert again == cfg.with_values({"design.m3": 0.1 / 3}) and again.design.m3 == 0.1 / 3
 
 
 @pytest.mark.parametrize("overrides, message", [

@@ -1,0 +1,119 @@
+"""The agents' ``aero-env`` subcommands: ``tune``, ``train`` and ``evaluate``.
+
+They plug into ``aero-env`` through the ``aero_env.commands`` entry point (pyproject.toml), so
+the physics package never imports the agents. Heavy imports (Optuna, torch) happen only when a
+command runs.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+
+def register(sub, scene_command) -> None:
+    tp = scene_command(sub, "tune", "search the design space with Optuna (CMA-ES, TPE or random search)")
+    tp.add_argument("--sampler", default="cmaes", help="cmaes (default), tpe, or random (the baseline)")
+    tp.add_argument("--trials", type=int, default=200,
+                    help="the study's target number of finished trials (a resumed study runs the rest)")
+    tp.add_argument("--seeds-per-design", type=int, default=1, metavar="K",
+                    help="episode seeds each design is scored on (mean reward); >1 where the scene draws "
+                         "context or tolerances, so that robust designs win")
+    tp.add_argument("--seed", type=int, default=0, help="the sampler's seed")
+    tp.add_argument("--storage", metavar="URL", help="memory, sqlite:///FILE.db or postgresql://USER@HOST/DB "
+                    "(default: memory; sqlite:///aero-env-tune.db with --study or --workers > 1)")
+    tp.add_argument("--study", metavar="NAME", help="study name; an existing study resumes "
+                    "(default: CONFIG-SAMPLER-sSEED)")
+    tp.add_argument("--workers", type=int, default=1, help="local processes sharing the study (default 1)")
+    tp.add_argument("--out", default="best.yaml", metavar="FILE.yaml",
+                    help="write the best design as a complete config (default best.yaml)")
+    tp.add_argument("--plot", metavar="FILE.png", help="optimisation-history plot (default: next to --out, "
+                    "NAME_history.png)")
+    tp.add_argument("--no-progress", action="store_true", help="no progress bar")
+    tp.set_defaults(func=cmd_tune)
+
+    rp = scene_command(sub, "train", "train a policy that maps the scene's context to a design (stable-baselines3)")
+    rp.add_argument("--algo", default="ppo", help="ppo (default) or sac")
+    rp.add_argument("--timesteps", type=int, default=2000, help="environment steps = episodes = designs tried")
+    rp.add_argument("--n-envs", type=int, default=1, help="environments stepped together (>1: one process each)")
+    rp.add_argument("--seed", type=int, default=0)
+    rp.add_argument("--eval-every", type=int, default=500, metavar="STEPS",
+                    help="timesteps between periodic evaluations (0: none)")
+    rp.add_argument("--hp", action="append", metavar="KEY=VALUE",
+                    help="override a hyper-parameter of agents.rl.ALGO_DEFAULTS (repeatable)")
+    rp.add_argument("--out", default="runs/policy", metavar="DIR", help="the run's directory (default runs/policy)")
+    rp.add_argument("--no-progress", action="store_true", help="no progress bar")
+    rp.set_defaults(func=cmd_train)
+
+    ep = sub.add_parser("evaluate", help="the trained policy's reward over episode seeds (mean and spread)")
+    ep.add_argument("run_dir", metavar="DIR", help="a directory written by aero-env train")
+    ep.add_argument("--episodes", type=int, default=20)
+    ep.add_argument("--seed", type=int, default=0, help="first episode seed (default 0)")
+    ep.add_argument("--json", action="store_true")
+    ep.set_defaults(func=cmd_evaluate)
+
+
+def cmd_tune(args) -> int:
+    from aero_env.cli import load_scene
+
+    from .tune import TuneSettings, plot_history, summary_lines, tune, write_best_yaml
+
+    cfg = load_scene(args)
+    settings = TuneSettings(sampler=args.sampler, trials=args.trials, seeds_per_design=args.seeds_per_design,
+                            seed=args.seed, storage=args.storage, study=args.study, workers=args.workers,
+                            progress=not args.no_progress).check()
+    try:
+        result = tune(cfg, settings, config_name=Path(args.config).stem)
+    except KeyboardInterrupt:
+        url = settings.resolved_storage()
+        how = ("an in-memory study is lost; give --storage sqlite:///FILE.db --study NAME to make one you can resume"
+               if url == "memory" else f"rerun the same command (--storage {url} --study "
+               f"{settings.study_name(Path(args.config).stem)}) to resume")
+        print(f"aero-env tune: interrupted; {how}", file=sys.stderr)
+        return 130
+    out = Path(args.out)
+    plot = Path(args.plot) if args.plot else out.with_name(f"{out.stem}_history.png")
+    write_best_yaml(cfg, result, out)
+    plot_history(result, plot)
+    if args.json:
+        print(json.dumps({**result.to_json_dict(), "out": str(out), "plot": str(plot)}, indent=2))
+    else:
+        print("\n".join(summary_lines(result)))
+        print(f"wrote best design: {out}\nwrote history plot: {plot}")
+    return 0
+
+
+def cmd_train(args) -> int:
+    from aero_env.cli import load_scene
+    from aero_env.config import parse_override
+
+    from .rl import TrainSettings, train
+
+    cfg = load_scene(args)
+    hp = dict(parse_override(t) for t in args.hp or [])
+    settings = TrainSettings(algo=args.algo, timesteps=args.timesteps, n_envs=args.n_envs, seed=args.seed,
+                             eval_every=args.eval_every, hyperparameters=hp, progress=not args.no_progress).check()
+    run = train(cfg, settings, args.out)
+    if args.json:
+        print(json.dumps({**run, "out": args.out}, indent=2))
+    else:
+        print(f"trained {run['algo']} for {run['timesteps']} steps on {run['n_envs']} env(s) in {run['wall_time']:.1f} s "
+              f"({run['episodes_per_second']:.1f} episodes/s)")
+        print(f"wrote {args.out}/model.zip, config.yaml, run.json, learning_curve.png; "
+              f"next: aero-env evaluate {args.out}")
+    return 0
+
+
+def cmd_evaluate(args) -> int:
+    from .rl import evaluate
+
+    rep = evaluate(args.run_dir, episodes=args.episodes, seed=args.seed)
+    if args.json:
+        print(json.dumps(rep, indent=2))
+    else:
+        print(f"{rep['algo']} policy over {rep['episodes']} episodes (seeds {rep['seeds'][0]}..{rep['seeds'][1]}): "
+              f"reward {rep['mean_reward']:.3f} ± {rep['std_reward']:.3f} (min {rep['min_reward']:g}, max "
+              f"{rep['max_reward']:g}); whole row ({rep['full_row']}) in {100 * rep['full_row_fraction']:.0f} %")
+        print("outcomes: " + ", ".join(f"{k} {v}" for k, v in rep["outcomes"].items()))
+    return 0

@@ -1,0 +1,172 @@
+"""Black-box tuning (agents.tune, ``aero-env tune``): tiny budgets, behaviour not final performance."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from aero_env.config import ConfigError, load_config
+from aero_env.physics import simulate
+from agents.design_eval import DesignEvaluator
+from agents.tune import TuneSettings, tune, write_best_yaml
+
+from .conftest import PAPER, ROOT
+from .postgres_server import PostgresMissing, postgres_server
+
+STEEP = ROOT / "configs" / "steep.yaml"
+QUIET = dict(progress=False)
+
+
+@pytest.fixture(scope="module")
+def short_row():
+    """The prototype's scene cut to 3 frames: trials take a few hundredths of a second."""
+    return load_config(PAPER, {"scene.frames": 3})
+
+
+def history(result):
+    return [(n, v) for n, v in result.history]
+
+
+def test_steep_scene_defeats_the_prototype_and_tuning_beats_it(tmp_path):
+    cfg = load_config(STEEP)
+    ev = DesignEvaluator(cfg, (0,))
+    proto = ev.score(ev.env.action_for())
+    assert proto.traversals == (0,) and proto.outcomes[0] in ("fell_short", "missed_catch", "stalled")
+    result = tune(cfg, TuneSettings(sampler="cmaes", trials=24, seed=0, **QUIET), "steep")
+    assert result.trials == 24 and result.trials_run == 24
+    assert result.best_reward > proto.mean_reward
+    # the best design, written as YAML, loads and simulates to the score the study recorded
+    path = tmp_path / "best.yaml"
+    write_best_yaml(cfg, result, path)
+    best = load_config(path)
+    assert best.tunable == cfg.tunable and best.scene == cfg.scene
+    for key, value in result.best_design.items():
+        assert best.value(key) == pytest.approx(value, rel=1e-12)
+    assert simulate(best).traversals == result.best_score["traversals"][0] == int(result.best_reward)
+
+
+def test_same_seed_same_study_different_seed_different_designs(short_row):
+    a = tune(short_row, TuneSettings(sampler="tpe", trials=8, seed=3, **QUIET))
+    b = tune(short_row, TuneSettings(sampler="tpe", trials=8, seed=3, **QUIET))
+    c = tune(short_row, TuneSettings(sampler="tpe", trials=8, seed=4, **QUIET))
+    assert history(a) == history(b) and a.best_design == b.best_design
+    assert a.best_design != c.best_design
+
+
+@pytest.mark.parametrize("sampler", ["cmaes", "random"])
+def test_resumed_study_continues_where_it_stopped(short_row, tmp_path, sampler):
+    url = f"sqlite:///{tmp_path / 'studies.db'}"
+    first = tune(short_row, TuneSettings(sampler=sampler, trials=6, storage=url, study="s", **QUIET))
+    assert (first.trials, first.trials_run) == (6, 6)
+    again = tune(short_row, TuneSettings(sampler=sampler, trials=6, storage=url, study="s", **QUIET))
+    assert (again.trials, again.trials_run) == (6, 0)  # already done: nothing more runs
+    more = tune(short_row, TuneSettings(sampler=sampler, trials=10, storage=url, study="s", **QUIET))
+    assert (more.trials, more.trials_run) == (10, 4)
+    assert history(more)[:6] == history(first)  # the first six trials are kept, not redone
+    assert [n for n, _ in history(more)] == list(range(10))
+    assert more.best_reward >= first.best_reward
+
+
+def test_a_study_refuses_another_scene_or_seed_count(short_row, tmp_path):
+    url = f"sqlite:///{tmp_path / 'studies.db'}"
+    tune(short_row, TuneSettings(sampler="random", trials=2, storage=url, study="s", **QUIET))
+    with pytest.raises(ConfigError, match="another scene"):
+        tune(short_row.replace({"scene.rise": 0.003}), TuneSettings(sampler="random", trials=4, storage=url,
+                                                                     study="s", **QUIET))
+    with pytest.raises(ConfigError, match="seeds-per-design"):
+        tune(short_row, TuneSettings(sampler="random", trials=4, seeds_per_design=2, storage=url, study="s",
+                                     **QUIET))
+
+
+def test_seeds_per_design_scores_each_design_on_the_drawn_scenes():
+    cfg = load_config(PAPER, {"scene.frames": 3, "context": [{"name": "scene.rise", "low": 0.0, "high": 0.006}],
+                              "tolerance": [{"name": "design.m3", "relative": 0.05}]})
+    ev = DesignEvaluator(cfg, (0, 1, 2, 3))
+    score = ev.score(ev.env.action_for())
+    assert len(score.rewards) == 4 and score.mean_reward == pytest.approx(np.mean(score.rewards))
+    # a deterministic scene runs once and repeats the run for every seed
+    plain = DesignEvaluator(load_config(PAPER, {"scene.frames": 3}), (0, 1, 2))
+    assert len(set(plain.score(plain.env.action_for()).rewards)) == 1
+    result = tune(cfg, TuneSettings(sampler="random", trials=3, seeds_per_design=4, **QUIET))
+    assert len(result.best_score["rewards"]) == 4
+    assert result.best_reward == pytest.approx(np.mean(result.best_score["rewards"]))
+
+
+def _check_shared_study(result, url_or_storage, name, trials):
+    """Every trial of the study was run by exactly one worker, and every worker's trials are in it."""
+    import optuna
+
+    study = optuna.load_study(study_name=name, storage=url_or_storage)
+    numbers = sorted(t.number for t in study.trials)
+    assert numbers == list(range(trials))  # none lost, none extra
+    assert all(t.state.name == "COMPLETE" for t in study.trials)
+    by_worker = {w["worker"]: sorted(w["trials"]) for w in result.workers}
+    assert len(by_worker) == 2 and all(by_worker.values())  # both workers ran trials
+    reported = sorted(n for ns in by_worker.values() for n in ns)
+    assert reported == numbers  # no duplicate: each trial reported by one worker only
+    for t in study.trials:
+        assert t.number in by_worker[t.user_attrs["worker"]]  # the trial names the worker that ran it
+    assert result.trials == trials and result.trials_run == trials
+
+
+def test_two_workers_share_a_sqlite_study(short_row, tmp_path):
+    url = f"sqlite:///{tmp_path / 'shared.db'}"
+    result = tune(short_row, TuneSettings(sampler="random", trials=10, storage=url, study="pair", workers=2,
+                                          **QUIET))
+    _check_shared_study(result, url, "pair", 10)
+
+
+@pytest.fixture
+def postgres_url():
+    """A real PostgreSQL server on loopback; fails (never skips) where PostgreSQL is not installed."""
+    try:
+        with postgres_server() as url:
+            yield url
+    except PostgresMissing as exc:
+        pytest.fail(str(exc))
+
+
+def test_two_workers_share_a_postgresql_study(short_row, postgres_url):
+    result = tune(short_row, TuneSettings(sampler="cmaes", trials=12, storage=postgres_url, study="pg-pair",
+                                          workers=2, **QUIET))
+    _check_shared_study(result, postgres_url, "pg-pair", 12)
+    resumed = tune(short_row, TuneSettings(sampler="cmaes", trials=14, storage=postgres_url, study="pg-pair",
+                                           **QUIET))
+    assert (resumed.trials, resumed.trials_run) == (14, 2)
+
+
+def run_cli(*args, cwd):
+    return subprocess.run([sys.executable, "-m", "aero_env.cli", *args], capture_output=True, text=True, cwd=cwd,
+                          timeout=600)
+
+
+def test_cli_tune_json_yaml_and_plot(tmp_path):
+    done = run_cli("tune", str(PAPER), "--set", "scene.frames=3", "--sampler", "random", "--trials", "4",
+                   "--json", "--out", "b.yaml", "--no-progress", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    out = json.loads(done.stdout)
+    assert {"best_reward", "best_design", "trials", "wall_time"} <= out.keys()
+    assert out["trials"] == 4 and out["wall_time"] > 0
+    assert set(out["best_design"]) == {"design.m3", "design.h", "design.La", "design.spring_k", "design.mu_s",
+                                       "design.mu_k"}
+    assert load_config(tmp_path / "b.yaml").design.m3 == pytest.approx(out["best_design"]["design.m3"])
+    assert (tmp_path / "b_history.png").stat().st_size > 5000
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--sampler", "grid"], ["--sampler", "'grid'", "cmaes, tpe, random"]),
+    (["--trials", "0"], ["--trials", "0", "[1,"]),
+    (["--workers", "2", "--storage", "memory"], ["--storage memory", "--workers 2", "sqlite"]),
+    (["--storage", "nowhere"], ["--storage", "'nowhere'", "postgresql://"]),
+    (["--storage", "postgresql://nobody@127.0.0.1:1/none"], ["--storage", "cannot open"]),
+])
+def test_cli_tune_bad_input_names_the_option(tmp_path, args, words):
+    done = run_cli("tune", str(PAPER), "--trials", "2", *args, "--no-progress", cwd=tmp_path)
+    assert done.returncode == 2, done.stderr
+    assert "Traceback" not in done.stderr
+    for w in words:
+        assert w in done.stderr
