@@ -256,10 +256,11 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
     name = settings.study_name(config_name)
     storage = open_storage(url)
     study = _load_study(cfg, settings, storage, name, make_sampler(settings.sampler, settings.seed))
-    remaining = max(0, settings.trials - len(_complete(study)))
+    done = len(_complete(study))
+    remaining = max(0, settings.trials - done)
     t0 = time.perf_counter()
     workers: list[dict] = []
-    with _Progress(settings.trials, len(_complete(study)), enabled=settings.progress and remaining > 0) as bar:
+    with _Progress(settings.trials, done, enabled=settings.progress and remaining > 0) as bar:
         if remaining and settings.workers == 1:
             ran = _run_trials(cfg, settings, storage, name, remaining, 0,
                               on_trial=lambda s, t: bar.update(s))
@@ -323,7 +324,7 @@ class _Progress:
 
             self.bar = tqdm(total=total, initial=done, desc="trials", unit="trial", dynamic_ncols=True)
 
-    def update(self, study, trial=None) -> None:
+    def update(self, study) -> None:
         if self.bar is None:
             return
         done = _complete(study)

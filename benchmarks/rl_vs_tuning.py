@@ -1,11 +1,11 @@
 """RL (a context -> design policy) against black-box tuning (one robust design), same budget.
 
-    python benchmarks/rl_vs_tuning.py [--budget 2000] [--seeds-per-design 10] [--holdout 100]
+    python benchmarks/rl_vs_tuning.py [--budget 800] [--seeds-per-design 8] [--holdout 60] [--frames 5]
                                       [--methods prototype,cmaes,random,ppo] [--jobs 2] [--json]
 
 The scene is ``aero_env/AerialAcrobatVaried-v0``: every reset draws the rise and the robot's
 mass (observed) and the build's cutting error (not observed). Each method may simulate
-``--budget`` episodes:
+``--budget`` episodes, on a row of ``--frames`` frames (shorter rows are cheaper per episode):
 
 * ``prototype``: the paper's design, no search (0 episodes);
 * ``cmaes`` / ``random``: ``budget / K`` trials, each design scored on the same K seeds; the best
@@ -35,15 +35,18 @@ SCENE = "aero_env/AerialAcrobatVaried-v0"
 HOLDOUT_START = 100_000
 
 
-def scene():
-    return load_config(None, ENVIRONMENTS[SCENE])
+FRAMES = 5
 
 
-def holdout_rows(actions_for, seeds) -> list[dict]:
+def scene(frames: int = FRAMES):
+    return load_config(None, {**ENVIRONMENTS[SCENE], "scene.frames": frames})
+
+
+def holdout_rows(cfg, actions_for, seeds) -> list[dict]:
     """Each hold-out episode: its robot mass and the reward of the design ``actions_for(obs)`` chose."""
     from aero_env.envs import AerialAcrobatEnv
 
-    env = AerialAcrobatEnv(scene())
+    env = AerialAcrobatEnv(cfg)
     rows = []
     for s in seeds:
         obs, info = env.reset(seed=s)
@@ -52,16 +55,17 @@ def holdout_rows(actions_for, seeds) -> list[dict]:
     return rows
 
 
-def run_method(method: str, budget: int, k: int, holdout: int, seed: int) -> dict:
+def run_method(method: str, budget: int, k: int, holdout: int, seed: int, frames: int) -> dict:
+    cfg = scene(frames)
     seeds = range(HOLDOUT_START, HOLDOUT_START + holdout)
     t0 = time.perf_counter()
     if method == "prototype":
-        action = DesignEvaluator(scene(), (0,)).env.action_for()
+        action = DesignEvaluator(cfg, (0,)).env.action_for()
         used, policy = 0, (lambda obs: action)
     elif method in ("cmaes", "random", "tpe"):
         from agents.tune import TuneSettings, tune
 
-        r = tune(scene(), TuneSettings(sampler=method, trials=budget // k, seeds_per_design=k, seed=seed,
+        r = tune(cfg, TuneSettings(sampler=method, trials=budget // k, seeds_per_design=k, seed=seed,
                                        progress=False))
         action = np.array(r.best_action)
         used, policy = r.trials * k, (lambda obs: action)
@@ -69,11 +73,11 @@ def run_method(method: str, budget: int, k: int, holdout: int, seed: int) -> dic
         from agents.rl import TrainSettings, load_run, train
 
         out = tempfile.mkdtemp(prefix=f"aero-{method}-")
-        train(scene(), TrainSettings(algo=method, timesteps=budget, seed=seed, eval_every=0, progress=False), out)
+        train(cfg, TrainSettings(algo=method, timesteps=budget, seed=seed, eval_every=0, progress=False), out)
         model, _, _ = load_run(out)
         used, policy = budget, (lambda obs: np.clip(model.predict(obs, deterministic=True)[0], -1, 1))
     search_wall = time.perf_counter() - t0
-    return dict(method=method, episodes=used, search_wall_s=search_wall, holdout=holdout_rows(policy, seeds))
+    return dict(method=method, episodes=used, search_wall_s=search_wall, holdout=holdout_rows(cfg, policy, seeds))
 
 
 def summarise(res: dict, full_row: int, m2_mid: float) -> dict:
@@ -88,9 +92,10 @@ def summarise(res: dict, full_row: int, m2_mid: float) -> dict:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--budget", type=int, default=2000)
-    ap.add_argument("--seeds-per-design", type=int, default=10)
-    ap.add_argument("--holdout", type=int, default=100)
+    ap.add_argument("--budget", type=int, default=800)
+    ap.add_argument("--seeds-per-design", type=int, default=8)
+    ap.add_argument("--holdout", type=int, default=60)
+    ap.add_argument("--frames", type=int, default=FRAMES)
     ap.add_argument("--methods", default="prototype,cmaes,random,ppo")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--jobs", type=int, default=2)
@@ -100,16 +105,17 @@ def main() -> None:
     with ProcessPoolExecutor(args.jobs) as pool:
         results = list(pool.map(run_method, methods, *(([x] * len(methods)) for x in
                                                         (args.budget, args.seeds_per_design, args.holdout,
-                                                         args.seed))))
-    cfg = scene()
+                                                         args.seed, args.frames))))
+    cfg = scene(args.frames)
     m2 = next(c for c in cfg.context if c.name == "design.m2")
     mid = 0.5 * (m2.low + m2.high)
     rows = [summarise(r, cfg.scene.frames - 1, mid) for r in results]
     if args.json:
-        print(json.dumps(dict(scene=SCENE, budget=args.budget, holdout=args.holdout, seed=args.seed, rows=rows),
+        print(json.dumps(dict(scene=SCENE, frames=args.frames, budget=args.budget, holdout=args.holdout,
+                              seed=args.seed, rows=rows),
                          indent=2))
         return
-    print(f"{SCENE}: budget {args.budget} episodes, {args.holdout} hold-out seeds, whole row = "
+    print(f"{SCENE} on {args.frames} frames: budget {args.budget} episodes, {args.holdout} hold-out seeds, whole row = "
           f"{cfg.scene.frames - 1}, robot light < {mid * 1e3:.2f} g <= heavy")
     print("| method | episodes used | search wall | hold-out reward | whole row | light robot | heavy robot |")
     print("|---|---|---|---|---|---|---|")
