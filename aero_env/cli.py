@@ -3,6 +3,7 @@
     aero-env simulate CONFIG [--set KEY=VALUE ...] [--json] [--trace FILE.csv] [--plot FILE.png] [--gif FILE.gif]
     aero-env compare CONFIG [--set KEY=VALUE ...] [--json] [--plot FILE.png] [--domain-map FILE.png]
     aero-env schema          # every config key with its default, unit, range and meaning
+    aero-env bench accuracy|effects|throughput ...   # what accuracy costs in time (aero_env.bench)
 
 Packages add subcommands through the ``aero_env.commands`` entry-point group: each entry is a
 function ``register(subparsers, scene_command)``. The design agents (``aero-env tune``,
@@ -25,7 +26,7 @@ def load_scene(args):
 
 
 def cmd_simulate(args) -> int:
-    from .physics import simulate
+    from .simulation import simulate
     from .render import pose_interval
 
     cfg = load_scene(args)
@@ -68,8 +69,8 @@ def _table(r) -> str:
     e = r.energy
     lines.append("")
     lines.append(f"outcome: {r.outcome} ({r.reason})")
-    lines.append(f"traversals: {r.traversals} of {r.frames - 1}   simulated {r.sim_time:.3f} s in {r.wall_time:.2f} s "
-                 f"wall ({r.sim_time / max(r.wall_time, 1e-9):.1f}x real time)")
+    lines.append(f"traversals: {r.traversals} of {r.frames - 1}   simulated {r.sim_time:.3f} s in {r.wall_time:.3f} s "
+                 f"wall ({r.sim_time / max(r.wall_time, 1e-9):.1f}x real time) at fidelity {r.fidelity}")
     lines.append(f"energy: initial {e['initial']:.6f} J, final {e['final']:.6f} J, max gain {e['max_gain']:.2e} J, "
                  f"max rise {e['max_rise']:.2e} J")
     h = r.health
@@ -149,6 +150,9 @@ def build_parser() -> argparse.ArgumentParser:
     cp.set_defaults(func=cmd_compare)
     sc = sub.add_parser("schema", help="print the config schema as a Markdown table")
     sc.set_defaults(func=cmd_schema)
+    from .bench.commands import register as register_bench
+
+    register_bench(sub, _scene_command)
     for entry in sorted(entry_points(group="aero_env.commands"), key=lambda e: e.name):
         entry.load()(sub, _scene_command)
     return ap

@@ -59,7 +59,9 @@ def test_cli_override_values_are_parsed_as_yaml():
     ({"sim.dt": 0.5}, ["sim.dt = 0.5", "out of range", "(0.0, 0.01] s"]),
     ({"design.Ld": 0.001, "design.Lc": 0.001}, ["design.Ld", "I2", "smaller than its parts"]),
     ({"physics.dt": 0.001}, ["physics.dt", "must start with one of"]),
-    ({"sim.dt": 0.01}, ["sim.contact_hold = 0.01", "5 time steps", "[0.05, 1.0] s"]),
+    ({"sim.dt": 0.01}, ["sim.contact_hold = 0.01", "5 runner steps", "[0.05, 1.0] s"]),
+        ({"sim.dt": 0.001, "sim.substeps": 4}, ["sim.contact_hold = 0.01", "sim.substeps = 4", "[0.02, 1.0] s"]),
+        ({"sim.fidelity": "exact"}, ["sim.fidelity = 'exact'", "reduced", "reference"]),
     ({"design.dT": 0.5}, ["design.dT = 0.5", "beyond its ends", "N·m"]),
 ])
 def test_bad_values_name_key_value_and_range(overrides, needles):

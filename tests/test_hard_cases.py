@@ -100,7 +100,7 @@ def test_extreme_designs_stay_sane_or_say_unstable(paper_cfg, name):
 @pytest.mark.parametrize("dt", [0.00025, 0.001, 0.002, 0.005, 0.01])
 def test_large_time_steps_agree_or_say_unstable(paper_cfg, dt):
     hold = {"sim.dt": dt, "sim.contact_hold": max(0.01, 5 * dt), "scene.frames": 3}
-    for design, reference in (({}, "completed"), ({"design.spring_k": 2e-4}, "missed_catch")):
+    for design, reference in (({}, "completed"), ({"design.spring_k": 8.77e-5}, "missed_catch")):  # brief: too weak
         cfg = paper_cfg.replace({**hold, **design})
         result = simulate(cfg)
         assert_sane(result, cfg)
@@ -116,13 +116,13 @@ def test_the_default_time_step_has_a_margin(paper_cfg):
 # ---- a long row: no drift, no cost growing with the row ----
 def test_a_100_frame_row_does_not_drift_or_slow_down(paper_cfg, paper_run, monkeypatch):
     calls = {"n": 0}
-    body_energy = world_module.World._body_energy
+    read_state = world_module.read_state
 
-    def counted(self, b):
+    def counted(b):
         calls["n"] += 1
-        return body_energy(self, b)
+        return read_state(b)
 
-    monkeypatch.setattr(world_module.World, "_body_energy", counted)
+    monkeypatch.setattr(world_module, "read_state", counted)
     cfg = paper_cfg.replace({"scene.frames": 100})
     long = simulate(cfg)
     per_step_long = calls["n"] / (long.sim_time / cfg.sim.dt)
@@ -131,8 +131,8 @@ def test_a_100_frame_row_does_not_drift_or_slow_down(paper_cfg, paper_run, monke
     per_step_short = calls["n"] / (short.sim_time / cfg.sim.dt)
     assert long.outcome == "completed" and long.traversals == 99
     assert_sane(long, cfg)
-    # the energy check visits the live bodies only: its cost per step does not grow with the row
-    assert per_step_long == pytest.approx(per_step_short, rel=0.05)
+    # the checks read the live bodies only: their cost per step does not grow with the row
+    assert per_step_short > 0.3 and per_step_long == pytest.approx(per_step_short, rel=0.1)
     # the motion settles into a cycle instead of drifting: late swings look like early ones
     detach = [s.theta1_detach_deg for s in long.swings if s.theta1_detach_deg is not None]
     duration = [s.swing_duration for s in long.swings[1:] if s.swing_duration is not None]

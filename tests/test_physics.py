@@ -196,10 +196,13 @@ def test_static_friction_holds_longer_than_kinetic(paper_cfg, paper_run):
     static = simulate(paper_cfg.replace({"scene.effects.friction": "static"}))
     kinetic = simulate(paper_cfg.replace({"scene.effects.friction": "kinetic"}))
     both = paper_run.swings[0].theta1_detach_deg
-    # sticking needs mu_s; once the hook slides mu_k decides how far it carries
-    assert static.swings[0].theta1_detach_deg > both + 2.0
-    assert kinetic.swings[0].theta1_detach_deg == pytest.approx(both, abs=1.0)
-    assert World(paper_cfg.replace({"scene.effects.friction": "kinetic"})).contact.law.pre_solve is None
+    # mu_s alone holds the hook longest, mu_k alone shortest; switching by slip lands between,
+    # and each coefficient moves the detach by more than a degree
+    assert kinetic.swings[0].theta1_detach_deg + 1.0 < both < static.swings[0].theta1_detach_deg - 1.0
+    # a single coefficient needs no per-step work: the C solver does it all
+    assert World(paper_cfg.replace({"scene.effects.friction": "kinetic"})).contact.before_step is None
+    switching = World(paper_cfg)
+    assert switching._before_step == (switching.contact.before_step,)  # the one per-step part of the scene
 
 
 def test_live_window_keeps_only_nearby_frames_in_the_space(paper_cfg):

@@ -11,7 +11,8 @@ from gymnasium import spaces
 
 from ..config import Config, ConfigError, load_config
 from ..design_space import DesignSpace, Draw
-from ..physics import SimResult, World, simulate
+from ..physics import SimResult, World
+from ..simulation import simulate
 from ..render import ANIMATION_FPS, Canvas, draw_frames, draw_summary, iter_frames, pose_interval
 
 __all__ = ["AerialAcrobatEnv"]
@@ -95,6 +96,10 @@ class AerialAcrobatEnv(gym.Env):
     | ``render_mode`` | None  | ``human`` (pygame window), ``rgb_array``, ``rgb_array_list``        |
     | ``**kwargs``  |         | more dotted-key overrides: ``gym.make(id, **{"design.m2": 0.008})`` |
 
+    The episode runs at the config's ``sim.fidelity`` (default ``mbd``, the pymunk world):
+    ``gym.make(id, **{"sim.fidelity": "reduced"})`` scores designs with the reduced model (no
+    pymunk, no rendering) for screening, ``"reference"`` with the converged pymunk settings.
+
     ```python
     import gymnasium as gym
     import aero_env  # registers the environments
@@ -125,6 +130,10 @@ class AerialAcrobatEnv(gym.Env):
         else:
             self.config = load_config(config, extra)
         self.space = DesignSpace(self.config)
+        if render_mode is not None and self.config.sim.model == "reduced":
+            raise ConfigError(f"render_mode = {render_mode!r}: sim.fidelity = {self.config.sim.fidelity!r} never builds "
+                              f"the machine's bodies, so there is nothing to draw; render at a pymunk fidelity "
+                              f"(mbd-fast, mbd, mbd-fine, reference)")
         self.render_mode = render_mode
         self.action_space = spaces.Box(-1.0, 1.0, (self.space.dim,), np.float32)
         self.observation_space = spaces.Box(-1.0, 1.0, (self.space.obs_dim,), np.float32)

@@ -62,7 +62,9 @@ class EngineParams:
     floor_drop: float
     # sim
     gravity: float
-    dt: float
+    dt: float  # one pymunk step
+    substeps: int  # pymunk steps per runner step
+    step: float  # one runner step, dt·substeps
     iterations: int
     collision_slop: float
     slip_speed: float
@@ -122,7 +124,8 @@ def to_engine(cfg: Config) -> EngineParams:
         frame_width=d.frame_width * L, robot_width=d.robot_width * L,
         frames=s.frames, pitch=s.pitch * L, rise=s.rise * L, theta2_start=rad(s.theta2_start_deg),
         floor_drop=s.floor_drop * L,
-        gravity=units.GRAVITY * units.ACCELERATION, dt=sim.dt * units.TIME, iterations=sim.iterations,
+        gravity=units.GRAVITY * units.ACCELERATION, dt=sim.dt * units.TIME,
+        substeps=sim.substeps, step=sim.dt * sim.substeps * units.TIME, iterations=sim.iterations,
         collision_slop=sim.collision_slop * L, slip_speed=sim.slip_speed * units.VELOCITY,
         max_speed=sim.max_speed * units.VELOCITY,
     )

@@ -37,7 +37,11 @@ class LinearLeafSpring:
         return 0.5 * self.k * da * da
 
     def energy(self) -> float:
-        return self.energy_at(self.robot.alpha - self.alpha_min)
+        return self.energy_for(self.robot.alpha)
+
+    def energy_for(self, alpha: float) -> float:
+        """The energy stored at arm angle ``alpha``."""
+        return self.energy_at(alpha - self.alpha_min)
 
     def capacity(self, alpha_max: float) -> float:
         """The energy stored fully bent."""
@@ -77,6 +81,9 @@ class NoSpring:
         pass
 
     def energy(self) -> float:
+        return 0.0
+
+    def energy_for(self, _alpha: float) -> float:
         return 0.0
 
     def capacity(self, _alpha_max: float) -> float:

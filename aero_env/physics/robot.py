@@ -13,6 +13,7 @@ Hanging makes the robot's weight open alpha against the spring until the alpha_m
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import pymunk
 
@@ -20,6 +21,14 @@ from .engine_params import EngineParams, robot_mass_layout
 from .swing_frame import HOOK
 
 _ROBOT = pymunk.ShapeFilter(group=2)
+
+
+class RobotMeasure(NamedTuple):
+    hook: tuple[float, float]  # engine units
+    com: tuple[float, float]
+    alpha: float  # rad (NaN for the rigid robot)
+    drift: float  # axle separation, engine units
+    overshoot: float  # alpha past its stopper, rad
 
 
 class Robot:
@@ -97,15 +106,22 @@ class Robot:
         """(axle position, torso angle, arm angle), engine units."""
         return self.torso.position, self.torso.angle, self.arm.angle
 
-    # -- health --
-    def joint_drift(self) -> float:
-        """Separation of torso and arm at the axle (both bodies have their origin there)."""
-        return (self.torso.position - self.arm.position).length
-
-    def limit_overshoot(self) -> float:
-        """How far alpha is past the arm's stopper at either end (radians)."""
-        a = self.alpha
-        return max(0.0, a - self.p.alpha_max, self.p.alpha_min - a)
+    # -- from one read of its bodies --
+    def measure(self, states) -> RobotMeasure:
+        """Hook, centre of mass, alpha and health from the read states of (torso, arm)."""
+        tx, ty, ta = states[0][:3]
+        ax, ay, aa = states[1][:3]
+        p = self.p
+        ca, sa = math.cos(aa), math.sin(aa)
+        hook = (ax + p.arm_length * ca, ay + p.arm_length * sa)
+        # torso cog at (0, -torso_com) and arm cog at (arm_length/2, 0) in their bodies' frames
+        mt, ma = p.m_torso, p.m_arm
+        com = ((mt * (tx + p.torso_com * math.sin(ta)) + ma * (ax + 0.5 * p.arm_length * ca)) / (mt + ma),
+               (mt * (ty - p.torso_com * math.cos(ta)) + ma * (ay + 0.5 * p.arm_length * sa)) / (mt + ma))
+        alpha = aa - ta + math.pi / 2
+        # the axle: both bodies have their origin there; the stopper: alpha within its limits
+        return RobotMeasure(hook, com, alpha, math.hypot(tx - ax, ty - ay),
+                            max(0.0, alpha - p.alpha_max, p.alpha_min - alpha))
 
 
 class RigidRobot:
@@ -152,8 +168,8 @@ class RigidRobot:
         """Drawn as a torso hanging from the hook towards the centre of mass."""
         return self.body.position, self.body.angle + 1.5 * math.pi, self.body.angle
 
-    def joint_drift(self) -> float:
-        return 0.0  # one rigid body: no joint of its own
-
-    def limit_overshoot(self) -> float:
-        return 0.0
+    def measure(self, states) -> RobotMeasure:
+        """Hook and centre of mass from the body's read state; one rigid body has no joint or stopper."""
+        x, y, a = states[0][:3]
+        com = (x - self.p.Lc * math.cos(a), y - self.p.Lc * math.sin(a))
+        return RobotMeasure((x, y), com, math.nan, 0.0, 0.0)

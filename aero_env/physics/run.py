@@ -9,7 +9,8 @@ its outcome:
 ``completed``   caught by the last frame of the row
 ``no_detach``   the hook still holds ``stop_hold`` after the frame reached its stop, or the frame
                 turned back from near its stop with the hook holding (friction too high)
-``stalled``     the frame turned back well before its stop, or the swing outlasted ``swing_timeout``
+``stalled``     the frame never left its rest angle (``rest_timeout``), turned back well before its
+                stop, or the swing outlasted ``swing_timeout``
 ``fell_short``  the hook slipped off too low (friction too low), or passed behind the next handrail
 ``missed_catch`` the arm did not swing forward in time (spring too weak or too stiff), or the
                 hook passed ahead of / bounced off the next handrail
@@ -32,6 +33,8 @@ from .world import World
 
 TURN_BACK_DEG = 20.0  # a hooked frame this far below its peak angle has turned back
 NEAR_STOP_DEG = 10.0  # a turn-back this close to the stop is the high-friction failure (no_detach)
+STOP_TOLERANCE = 1e-3  # rad: a frame this close to its stop angle is at its stop
+REST_MOVE = math.radians(0.5)  # a frame that never turned this far from its rest angle has not moved
 TRACE_COLUMNS = ("t", "frame", "theta1", "theta2", "alpha", "omega1", "omega2", "alpha_rate", "contact", "energy")
 
 
@@ -61,6 +64,7 @@ class SimResult:
     wall_time: float
     miss_distance: float | None = None  # m: closest the hook came to the next handrail's seat in the failed transfer
     health: dict = field(default_factory=dict)  # largest joint drift (m), limit overshoot (deg), penetration (m)
+    fidelity: str = "mbd"  # the sim.fidelity preset the run was made at
     trace: dict | None = field(default=None, repr=False)
     poses: list | None = field(default=None, repr=False)
     geometry: dict | None = field(default=None, repr=False)
@@ -70,22 +74,25 @@ class SimResult:
         return dict(traversals=self.traversals, frames=self.frames, outcome=self.outcome, reason=self.reason,
                     swings=[asdict(s) for s in self.swings], energy=dict(self.energy),
                     sim_time=self.sim_time, wall_time=self.wall_time, miss_distance=self.miss_distance,
-                    health=dict(self.health))
+                    health=dict(self.health), fidelity=self.fidelity)
 
 
 class _Flight:
     """What happened since the hook last touched frame ``origin``: tentative until contact has been
     lost for ``sim.contact_hold``, so every measurement starts at the true detach."""
 
-    def __init__(self, origin: int, t_detach: float, alpha_detach: float, release_height: float):
+    def __init__(self, origin: int, t_detach: float, theta1_detach: float, alpha_detach: float,
+                 release_height: float):
         self.origin = origin
         self.t_detach = t_detach
+        self.theta1_detach = theta1_detach
         self.alpha_detach = alpha_detach
         self.height = release_height  # hook height above the next frame's seat when it let go
         self.first_touch: float | None = None
         self.crossing: tuple[float, float] | None = None  # (hook x - seat x, alpha) as the hook sinks below the seat
         self.t_cross: float | None = None
         self.t_snap: float | None = None  # when the arm had swung through half its range
+        self.watching = True  # until both the snap and the crossing are seen
 
     def observe(self, t: float, robot, seat, snapped_alpha: float) -> None:
         if self.t_snap is None and robot.alpha < snapped_alpha:
@@ -95,19 +102,32 @@ class _Flight:
             if hook.y < seat.y:
                 self.crossing = (hook.x - seat.x, robot.alpha)
                 self.t_cross = t - self.t_detach
+        self.watching = self.t_snap is None or self.crossing is None
 
 
 def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None) -> SimResult:
-    """Simulate ``cfg`` until the robot completes the row or fails. Deterministic for a config."""
+    """Simulate ``cfg`` in the pymunk world until the robot completes the row or fails.
+    Deterministic for a config.
+
+    Per runner step the loop does only what must be per step: the contact bookkeeping (catch
+    and detach times are step-exact) and, in flight, the watch for the arm's snap and the
+    hook's descent past the next seat. The frame's peak, its stop, the floor, the time limits,
+    the energy and the health monitors are read every ``sim.check_interval`` (5 ms), far finer
+    than the thresholds they test (a 20 deg turn-back, a 0.3 s
+    stop hold, a 1 s rest timeout).
+    """
     wall0 = time.perf_counter()
     world = World(cfg)
     sim, d = cfg.sim, cfg.design
     p = world.p
     frames, robot, contact = world.frames, world.robot, world.contact
+    touches = contact.touches
     n_frames = len(frames)
     hold = sim.contact_hold
     half_range = 0.5 * (p.alpha_max - p.alpha_min)
     snapped_alpha = p.alpha_min + half_range
+    near_stop = p.stop_angle - STOP_TOLERANCE
+    turn_back, near_stop_turn = math.radians(TURN_BACK_DEG), p.stop_angle - math.radians(NEAR_STOP_DEG)
     # The energy scale of the machine: the robot and counterbalance falling the frame's length, plus
     # what the fully bent spring stores (a stiff spring moves far more energy than gravity does).
     e_tol = sim.energy_tolerance * ((d.m2 + d.m3) * units.GRAVITY * (d.La + d.Lb) + world.spring_capacity())
@@ -116,7 +136,9 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
               sim.max_penetration * units.length_to_si(p.hook_radius + p.rail_radius))
 
     rows: list[tuple] = []
-    pose_steps = max(1, round(poses_every / sim.dt)) if poses_every else 0
+    step_s = sim.dt * sim.substeps  # one runner step
+    check_every = max(1, round(sim.check_interval / step_s))
+    pose_steps = max(1, round(poses_every / step_s)) if poses_every else 0
     poses: list = [(0.0, *world.pose())] if pose_steps else []
     e0 = world.energy()
     max_gain, e_min, max_rise = 0.0, e0, 0.0
@@ -124,37 +146,41 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
     th2_lo = th2_hi = swings[0].theta2_catch_deg
     flight: _Flight | None = None  # committed: the hook has let go of frame world.active
     pending: _Flight | None = None  # contact lost, not yet for contact_hold
-    touch = (0.0, frames[0].theta, robot.alpha, robot.hook_world().y)  # t, theta1, alpha, hook y at last touch
+    t_touch = 0.0  # the last runner step at which the hook touched its frame
     t_stop: float | None = None
     theta1_peak = frames[0].theta
     outcome, reason = "timeout", f"reached sim.t_max = {sim.t_max} s"
-    n_max = int(math.ceil(sim.t_max / sim.dt))
+    n_max = int(math.ceil(sim.t_max / step_s))
     next_seat = frames[1].hook_seat_world() if n_frames > 1 else None
     closest = math.inf  # engine units: hook to next_seat since the last catch, on the check cadence
+    cur = frames[0]
 
     for n in range(1, n_max + 1):
         world.step()
         t = world.t
-        cur = frames[world.active]
+        check = n % check_every == 0
 
-        if flight is None:  # ---- hanging on frame world.active ----
-            if contact.touches(cur.index):
-                touch = (t, cur.theta, robot.alpha, robot.hook_world().y)
+        if flight is None:  # ---- hanging on frame cur ----
+            if touches(cur.index):
+                t_touch = t
                 pending = None  # a brief loss of contact was a bounce, not a detach
             else:
-                if pending is None:
-                    pending = _Flight(cur.index, touch[0], touch[2], touch[3] - next_seat.y)
-                pending.observe(t, robot, next_seat, snapped_alpha)
-                if t - touch[0] >= hold:
+                if pending is None:  # the first step without contact: the state at the detach
+                    pending = _Flight(cur.index, t_touch, cur.theta, robot.alpha,
+                                      robot.hook_world().y - next_seat.y)
+                if pending.watching:
+                    pending.observe(t, robot, next_seat, snapped_alpha)
+                if t - t_touch >= hold:
                     sw = swings[-1]
-                    sw.t_detach, sw.theta1_detach_deg = touch[0], math.degrees(touch[1])
-                    sw.swing_duration = touch[0] - sw.t_catch
-                    sw.alpha_detach_deg = math.degrees(touch[2])
+                    sw.t_detach, sw.theta1_detach_deg = t_touch, math.degrees(pending.theta1_detach)
+                    sw.swing_duration = t_touch - sw.t_catch
+                    sw.alpha_detach_deg = math.degrees(pending.alpha_detach)
                     sw.theta2_min_deg, sw.theta2_max_deg = th2_lo, th2_hi
                     flight, pending = pending, None
-            if flight is None:
-                theta1_peak = max(theta1_peak, cur.theta)
-                if cur.at_stop():
+            if flight is None and check:
+                theta1 = cur.theta
+                theta1_peak = max(theta1_peak, theta1)
+                if theta1 >= near_stop:
                     t_stop = t if t_stop is None else t_stop
                     if t - t_stop >= sim.stop_hold:
                         outcome, reason = "no_detach", (
@@ -163,30 +189,35 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                         break
                 else:
                     t_stop = None
-                    if cur.theta < theta1_peak - math.radians(TURN_BACK_DEG):
+                    if theta1 < theta1_peak - turn_back:
                         peak = math.degrees(theta1_peak)
-                        if theta1_peak >= p.stop_angle - math.radians(NEAR_STOP_DEG):
+                        if theta1_peak >= near_stop_turn:
                             outcome, reason = "no_detach", (f"frame {cur.index} reached {peak:.1f} deg, near its stop, "
                                                             f"and turned back under the robot{contact.holding_note}")
                         else:
                             outcome, reason = "stalled", (f"frame {cur.index} turned back at {peak:.1f} deg, short of "
                                                           f"its stop, with the robot hooked: too little moment imbalance")
                         break
+                if theta1_peak < p.rest_angle + REST_MOVE and t - swings[-1].t_catch > sim.rest_timeout:
+                    outcome, reason = "stalled", (f"frame {cur.index} never left its rest angle in {sim.rest_timeout} s "
+                                                  f"with the robot hooked: the counterbalance outweighs the robot")
+                    break
                 if t - swings[-1].t_catch > sim.swing_timeout:
                     outcome, reason = "stalled", f"swing on frame {cur.index} lasted over {sim.swing_timeout} s"
                     break
         else:  # ---- in flight from frame flight.origin ----
             nxt = flight.origin + 1
-            if contact.touches(nxt):
-                flight.first_touch = t if flight.first_touch is None else flight.first_touch
+            if touches(nxt):
+                check = True  # every step of a catch: the hook's landing is where it sinks deepest
+                if flight.first_touch is None:
+                    flight.first_touch = t
                 if t - flight.first_touch >= hold:  # caught
                     world.set_active(nxt)
                     cur = frames[nxt]
                     swings.append(Swing(nxt, flight.first_touch, math.degrees(cur.theta),
                                         math.degrees(robot.theta2())))
                     th2_lo = th2_hi = swings[-1].theta2_catch_deg
-                    flight, t_stop, theta1_peak = None, None, cur.theta
-                    touch = (t, cur.theta, robot.alpha, robot.hook_world().y)
+                    flight, t_stop, theta1_peak, t_touch = None, None, cur.theta, t
                     if nxt == n_frames - 1:
                         outcome, reason = "completed", f"caught by the last frame ({nxt})"
                         break
@@ -195,17 +226,19 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                     continue
             else:
                 flight.first_touch = None
-            flight.observe(t, robot, next_seat, snapped_alpha)
-            com = robot.com_world()
-            if com.y < world.floor_y(com.x) or t - flight.t_detach > sim.flight_timeout:
-                outcome, reason = _classify_miss(flight, nxt, half_range, p, sim.min_release_height * units.LENGTH)
-                break
+            if flight.watching:
+                flight.observe(t, robot, next_seat, snapped_alpha)
+            if check:
+                com = robot.com_world()
+                if com.y < world.floor_y(com.x) or t - flight.t_detach > sim.flight_timeout:
+                    outcome, reason = _classify_miss(flight, nxt, half_range, p, sim.min_release_height * units.LENGTH)
+                    break
 
-        e = None
-        if n % sim.check_every == 0:
-            e = world.energy()
-            th2 = robot.theta2()
-            if not (math.isfinite(e) and math.isfinite(th2)) or world.max_speed() > p.max_speed:
+        sample = None
+        if check:
+            sample = world.sample()
+            e, th2 = sample.energy, sample.theta2
+            if not (math.isfinite(e) and math.isfinite(th2)) or sample.max_speed > p.max_speed:
                 outcome, reason = "unstable", "non-finite or exploding state (a body exceeded sim.max_speed)"
                 break
             max_gain = max(max_gain, e - e0)
@@ -216,8 +249,8 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                                                f"{e_tol:.3g} J (sim.energy_tolerance): numerical error (try a smaller sim.dt "
                                                f"or more sim.iterations)")
                 break
-            closest = min(closest, (robot.hook_world() - next_seat).length)
-            bad = _health_check(world.health(), worst, limits)
+            closest = min(closest, math.hypot(sample.hook[0] - next_seat.x, sample.hook[1] - next_seat.y))
+            bad = _health_check(sample.health, worst, limits)
             if bad:
                 outcome, reason = "unstable", bad
                 break
@@ -225,7 +258,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                 th2d = math.degrees(th2)
                 th2_lo, th2_hi = min(th2_lo, th2d), max(th2_hi, th2d)
         if trace and n % sim.trace_every == 0:
-            rows.append(_trace_row(world, t, robot.theta2(), world.energy() if e is None else e))
+            rows.append(_trace_row(world, t, sample or world.sample()))
         if pose_steps and n % pose_steps == 0:
             poses.append((t, *world.pose()))
 
@@ -244,6 +277,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
         trace={c: np.array(v) for c, v in zip(TRACE_COLUMNS, zip(*rows))} if trace and rows else None,
         poses=poses if pose_steps else None,
         geometry=world.geometry() if pose_steps else None,
+        fidelity=sim.fidelity,
     )
 
 
@@ -266,11 +300,11 @@ def _health_check(measured: tuple, worst: list, limits: tuple) -> str | None:
     return None
 
 
-def _trace_row(world: World, t: float, th2: float, e: float) -> tuple:
+def _trace_row(world: World, t: float, sample) -> tuple:
     robot, cur = world.robot, world.frames[world.active]
     touching = sorted(world.contact.touching)
-    return (t, cur.index, cur.theta, th2, robot.alpha, cur.omega, robot.theta2_rate(), robot.alpha_rate,
-            touching[0] if touching else -1, e)
+    return (t, cur.index, cur.theta, sample.theta2, robot.alpha, cur.omega, robot.theta2_rate(), robot.alpha_rate,
+            touching[0] if touching else -1, sample.energy)
 
 
 def _classify_miss(flight: _Flight, nxt: int, half_range: float, p, min_release_height: float) -> tuple[str, str]:

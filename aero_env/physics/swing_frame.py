@@ -14,6 +14,7 @@ back face and off its end: that is the detach (brief, steps 3-4).
 
 from __future__ import annotations
 
+import math
 
 import pymunk
 
@@ -48,6 +49,9 @@ class SwingFrame:
         # Each face runs from the corner along the other face's normal (the two form the notch).
         self.faces_local = ((corner, corner + n_front * p.notch_back_face),
                             (corner, corner + n_back * p.notch_front_face))
+        self.rail_radius = p.rail_radius
+        # each face as (start, unit direction, length), for the penetration monitor
+        self._faces = tuple((a.x, a.y, *((b - a) / (b - a).length), (b - a).length) for a, b in self.faces_local)
         self.shapes = []
         for a, b in self.faces_local:
             seg = pymunk.Segment(body, a, b, p.rail_radius)
@@ -87,18 +91,22 @@ class SwingFrame:
         return self.body.local_to_world(self.hook_seat_local)
 
     # -- health: how far the solver lets the skewers give (engine units, radians) --
-    def pivot_drift(self) -> float:
-        """Distance between the frame's axis point and its skewer."""
-        return (self.body.position - self.axis).length
+    def health(self, state: tuple) -> tuple[float, float]:
+        """(pivot drift, limit overshoot) from a read state (x, y, angle, ...): how far the frame's
+        axis point has left its skewer, and how far it has turned past its stopper or below its
+        rest angle."""
+        x, y, a = state[0], state[1], state[2]
+        return math.hypot(x - self.axis.x, y - self.axis.y), max(0.0, a - self.stop_angle, self.rest_angle - a)
 
-    def limit_overshoot(self) -> float:
-        """How far the frame has turned past its stopper or below its rest angle."""
-        a = self.body.angle
-        return max(0.0, a - self.stop_angle, self.rest_angle - a)
-
-    def penetration(self, point: pymunk.Vec2d, radius: float) -> float:
-        """How deep a circle at ``point`` sits inside this frame's handrail card (0 when outside)."""
-        return max(0.0, max(radius - seg.point_query(point).distance for seg in self.shapes))
-
-    def at_stop(self, tol: float = 1e-3) -> bool:
-        return self.body.angle >= self.stop_angle - tol
+    def penetration(self, state: tuple, point: tuple[float, float], radius: float) -> float:
+        """How deep a circle at world ``point`` sits inside this frame's handrail card (0 when
+        outside), from the frame's read state; pure geometry in the frame's own coordinates."""
+        x, y, a = state[0], state[1], state[2]
+        c, s = math.cos(a), math.sin(a)
+        dx, dy = point[0] - x, point[1] - y
+        px, py = c * dx + s * dy, -s * dx + c * dy  # the point in frame-local coordinates
+        depth = 0.0
+        for (ax, ay, ux, uy, length) in self._faces:
+            along = min(max((px - ax) * ux + (py - ay) * uy, 0.0), length)
+            depth = max(depth, radius + self.rail_radius - math.hypot(px - ax - along * ux, py - ay - along * uy))
+        return depth

@@ -9,10 +9,15 @@ its callback) and the floor. Built only when the scene names it: :class:`AirDrag
 Frames are simulated only inside a live window around the robot's frame: the one it just
 left (still turning to its stopper), its own, and ``effects.live_frames`` ahead. Frames
 further back have reached their stop and are retired from the space; frames further ahead
-wait at rest and are not in the space yet. The step loop itself has no per-effect branches.
+wait at rest and are not in the space yet. The step loop itself has no per-effect branches: a part that must act once per step (the
+static/kinetic friction switch) hands the world its ``before_step``, and the world runs the
+ones it was given.
 """
 
 from __future__ import annotations
+
+import math
+from typing import NamedTuple
 
 import pymunk
 
@@ -24,6 +29,23 @@ from .hook_contact import HookContact, PinnedHook, friction_law
 from .leaf_spring import SPRING_LAWS, NoSpring
 from .robot import RigidRobot, Robot
 from .swing_frame import FLOOR, SwingFrame
+
+
+def read_state(b: pymunk.Body) -> tuple[float, float, float, float, float, float]:
+    """(x, y, angle, vx, vy, omega): the body's origin, its angle, its centre of gravity's velocity
+    and its angular velocity, each read from pymunk once."""
+    p, v = b.position, b.velocity
+    return p.x, p.y, b.angle, v.x, v.y, b.angular_velocity
+
+
+class Sample(NamedTuple):
+    """What one read of the world gives the runner's checks."""
+
+    energy: float  # J
+    max_speed: float  # engine units: the fastest live body's centre of gravity
+    theta2: float  # rad: robot line from its centre of mass to the hook
+    hook: tuple[float, float]  # engine units
+    health: tuple[float, float, float]  # SI: joint drift (m), limit overshoot (rad), penetration (m)
 
 
 class World:
@@ -51,6 +73,9 @@ class World:
         self.robot.add_to(space)
         self.spring.add_to(space)
         self.drag = AirDrag(self.frames, self.robot, p) if fx.drag else None
+        # Parts that act once per runner step, before it (only those the scene switched on).
+        self._before_step = tuple(f for f in (self.contact.before_step,) if f is not None)
+        self._substeps = p.substeps
         self.live_ahead = fx.live_frames
         # The floor follows the row's incline, floor_drop below the frame axes.
         x0, x1 = -2.0 * p.pitch, (p.frames + 1) * p.pitch
@@ -60,6 +85,9 @@ class World:
         floor.collision_type = FLOOR
         space.add(floor)
 
+        # Mass, moment and centre of gravity never change: read them from pymunk once.
+        self._mass_props = {b: (b.mass, b.moment, b.center_of_gravity.x, b.center_of_gravity.y)
+                            for b in (*(f.body for f in self.frames), *self.robot.bodies)}
         self.active = -1
         self._live: list[SwingFrame] = []  # every frame starts parked, at rest
         self._parked_energy = sum(self._body_energy(f.body) for f in self.frames)
@@ -70,6 +98,9 @@ class World:
         self.steps = 0
 
     # -- live window --
+    def _body_energy(self, b: pymunk.Body) -> float:
+        return self._energy_of(b, read_state(b))
+
     def set_active(self, i: int) -> None:
         """Make frame i the robot's frame: keep i-1 (still turning), i and live_ahead frames ahead."""
         self.active = i
@@ -92,50 +123,72 @@ class World:
 
     # -- stepping --
     def step(self) -> None:
-        self.space.step(self.p.dt)
+        """One runner step: the per-step parts, then ``sim.substeps`` pymunk steps of ``sim.dt``."""
+        for part in self._before_step:
+            part()
+        space, dt = self.space, self.p.dt
+        for _ in range(self._substeps):
+            space.step(dt)
         self.steps += 1
-        self.t = self.steps * self.p.dt  # no accumulated round-off in the clock
+        self.t = self.steps * self.p.step  # no accumulated round-off in the clock
 
     # -- measurements (engine units inside, SI where it says so) --
     def floor_y(self, x: float) -> float:
         a, b = self.floor_a, self.floor_b
         return a.y + (x - a.x) * (b.y - a.y) / (b.x - a.x)
 
-    def energy(self) -> float:
-        """Total mechanical energy in joules: kinetic + gravitational + spring, over every frame and the robot.
+    def sample(self) -> "Sample":
+        """Read every live body once (position, angle, velocities) and derive what the runner checks:
+        energy, the fastest body, theta2, the hook's position and the health monitors.
 
         Frames outside the space are at rest (ahead) or at their stop (behind): their potential
         energy is constant and still counted, so the total is comparable across window moves.
         """
-        e = self.spring.energy() + self._parked_energy
+        energy_of = self._energy_of
+        e = self._parked_energy
+        v2max, drift, over = 0.0, 0.0, 0.0
+        frame_states = {}
         for f in self._live:
-            e += self._body_energy(f.body)
-        for b in self.robot.bodies:
-            e += self._body_energy(b)
-        return units.energy_to_si(e)
+            st = frame_states[f.index] = read_state(f.body)
+            e += energy_of(f.body, st)
+            v2max = max(v2max, st[3] * st[3] + st[4] * st[4])
+            d, o = f.health(st)
+            drift, over = max(drift, d), max(over, o)
+        robot = self.robot
+        states = [read_state(b) for b in robot.bodies]
+        for b, st in zip(robot.bodies, states):
+            e += energy_of(b, st)
+            v2max = max(v2max, st[3] * st[3] + st[4] * st[4])
+        m = robot.measure(states)
+        e += self.spring.energy_for(m.alpha)
+        drift = max(drift, m.drift, self.contact.joint_drift())
+        over = max(over, m.overshoot)
+        # Any overlap of hook and card is a contact, so only the frames the hook touches can hold it.
+        touching = self.contact.touching
+        pen = self.contact.penetration([(self.frames[i], frame_states[i]) for i in touching if i in frame_states],
+                                       m.hook) if touching else 0.0
+        return Sample(units.energy_to_si(e), math.sqrt(v2max), math.atan2(m.hook[1] - m.com[1], m.hook[0] - m.com[0]),
+                      m.hook, (units.length_to_si(drift), over, units.length_to_si(pen)))
 
-    def _body_energy(self, b: pymunk.Body) -> float:
-        v = b.velocity
-        w = b.angular_velocity
-        return (0.5 * (b.mass * (v.x * v.x + v.y * v.y) + b.moment * w * w)
-                + b.mass * self.p.gravity * b.local_to_world(b.center_of_gravity).y)
-
-    def spring_capacity(self) -> float:
-        """Energy (J) the spring stores fully bent, at alpha_max."""
-        return units.energy_to_si(self.spring.capacity(self.p.alpha_max))
-
-    def max_speed(self) -> float:
-        return max(b.velocity.length for b in (*self.robot.bodies, *(f.body for f in self._live)))
+    def energy(self) -> float:
+        """Total mechanical energy in joules: kinetic + gravitational + spring, over every frame and the robot."""
+        return self.sample().energy
 
     def health(self) -> tuple[float, float, float]:
         """How far the solver lets the machine's constraints give, in SI: (joint drift in m: frame
         skewers, robot axle, pinned hook; limit overshoot in rad: frame stoppers, arm stopper;
         hook penetration into a handrail card in m). Near zero in a healthy run."""
-        drift = max(self.robot.joint_drift(), self.contact.joint_drift(),
-                    max(f.pivot_drift() for f in self._live))
-        over = max(self.robot.limit_overshoot(), max(f.limit_overshoot() for f in self._live))
-        pen = self.contact.penetration(self._live)
-        return units.length_to_si(drift), over, units.length_to_si(pen)
+        return self.sample().health
+
+    def _energy_of(self, b: pymunk.Body, st: tuple) -> float:
+        m, moment, cgx, cgy = self._mass_props[b]
+        x, y, a, vx, vy, w = st
+        y_cog = y + cgx * math.sin(a) + cgy * math.cos(a)
+        return 0.5 * (m * (vx * vx + vy * vy) + moment * w * w) + m * self.p.gravity * y_cog
+
+    def spring_capacity(self) -> float:
+        """Energy (J) the spring stores fully bent, at alpha_max."""
+        return units.energy_to_si(self.spring.capacity(self.p.alpha_max))
 
     def geometry(self) -> dict:
         """The machine's fixed geometry in SI, for drawing."""

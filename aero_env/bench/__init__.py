@@ -1,0 +1,16 @@
+"""Benchmarks: what accuracy costs in time (``aero-env bench``).
+
+| command                         | measures                                                                 |
+|---------------------------------|--------------------------------------------------------------------------|
+| ``bench accuracy CONFIG``       | every fidelity on the same designs: wall time, real-time factor, speed-up |
+|                                 | over ``reference``, outcome agreement and detach errors against it        |
+| ``bench effects CONFIG``        | each effect's cost (drag, static/kinetic switching, live frames) and      |
+|                                 | whether it changes any outcome                                           |
+| ``bench overhead CONFIG``       | the Python layer's cost over bare ``space.step`` calls, piece by piece    |
+| ``bench throughput [CONFIG]``   | environment episodes per second with 1 and 2 vector workers               |
+
+Times are medians over repeats, and every ratio compares runs measured in the same call, so a
+noisy machine shifts both sides alike. Designs are drawn from the environment's action space
+with a fixed seed: the same command measures the same designs. Nothing here is imported by the
+physics, the models or the environments.
+"""

@@ -1,0 +1,221 @@
+"""``aero-env bench accuracy``: every fidelity on the same designs, against ``reference``.
+
+For each design (drawn from the env's action space with a fixed seed) and each fidelity, the
+run is repeated ``repeats`` times and its median wall time kept; ``reduced`` runs the whole
+sample as one vectorised batch, and its time per design is the batch's median over
+``repeats`` divided by the sample size. Against ``reference`` each fidelity reports:
+
+* ``outcome_agreement``: the fraction of designs whose traversal count equals the reference's
+  (what the environment rewards), and ``outcome_label_agreement`` (same outcome name too);
+* ``detach_time_error`` / ``detach_angle_error``: median, 95th percentile and largest absolute
+  error in the first swing's detach time (s) and frame angle (deg), over designs where both
+  detach;
+* ``wall_per_design`` (s), ``wall_per_sim_second`` (s of wall time per simulated second),
+  ``realtime_factor`` (simulated seconds per wall second) and ``speedup_vs_reference``.
+
+``check_reference=True`` adds ``reference/2``: the reference preset at half its step and twice
+its iterations, the test of the claim that refining further no longer changes the outcome or
+the first detach time.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..config import DEFAULT_FIDELITY, FIDELITY_PRESETS, Config, ConfigError
+from ..simulation import simulate
+from .designs import DesignSample, check_counts, draw_designs, median_time
+
+REFERENCE = "reference"
+REFINED = "reference/2"
+
+
+@dataclass
+class FidelityRuns:
+    """One fidelity's runs of the sample, in design order."""
+
+    name: str
+    model: str
+    dt: float
+    iterations: int
+    substeps: int
+    traversals: list = field(default_factory=list)
+    outcomes: list = field(default_factory=list)
+    t_detach: list = field(default_factory=list)  # first swing, s (NaN: no detach)
+    theta1_detach: list = field(default_factory=list)  # deg
+    sim_time: list = field(default_factory=list)
+    wall: list = field(default_factory=list)  # median wall time per design, s
+
+
+def fidelity_overrides(name: str) -> dict:
+    """Overrides that put a config at fidelity ``name`` (``reference/2`` refines the reference)."""
+    if name == REFINED:
+        ref = FIDELITY_PRESETS[REFERENCE]
+        return {"sim.fidelity": REFERENCE, "sim.dt": ref["dt"] / 2, "sim.iterations": ref["iterations"] * 2}
+    if name not in FIDELITY_PRESETS:
+        raise ConfigError(f"--fidelities: {name!r} is not a fidelity; allowed {list(FIDELITY_PRESETS)}")
+    return {"sim.fidelity": name}
+
+
+def _first_detach(swings) -> tuple[float, float]:
+    s = swings[0] if swings else None
+    if s is None or s.t_detach is None:
+        return math.nan, math.nan
+    return s.t_detach, s.theta1_detach_deg
+
+
+def run_fidelity(sample: DesignSample, name: str, repeats: int) -> FidelityRuns:
+    over = fidelity_overrides(name)
+    cfgs = [c.replace(over) for c in sample.configs]
+    sim = cfgs[0].sim
+    runs = FidelityRuns(name, sim.model, sim.dt, sim.iterations, sim.substeps)
+    if sim.model == "reduced":
+        from ..models.reduced import simulate_batch
+
+        wall, res = median_time(lambda: simulate_batch(cfgs), repeats)
+        runs.traversals = [int(x) for x in res.traversals]
+        runs.outcomes = [str(x) for x in res.outcome]
+        runs.t_detach = [float(x) for x in res.t_detach]
+        runs.theta1_detach = [float(x) for x in res.theta1_detach_deg]
+        runs.sim_time = [float(x) for x in res.sim_time]
+        runs.wall = [wall / len(cfgs)] * len(cfgs)
+        return runs
+    for cfg in cfgs:
+        wall, r = median_time(lambda: simulate(cfg), repeats)
+        t, th = _first_detach(r.swings)
+        runs.traversals.append(r.traversals)
+        runs.outcomes.append(r.outcome)
+        runs.t_detach.append(t)
+        runs.theta1_detach.append(th)
+        runs.sim_time.append(r.sim_time)
+        runs.wall.append(wall)
+    return runs
+
+
+def _errors(a: list, b: list) -> dict:
+    x, y = np.asarray(a, float), np.asarray(b, float)
+    both = np.isfinite(x) & np.isfinite(y)
+    err = np.abs(x[both] - y[both])
+    if not err.size:
+        return dict(median=None, p95=None, max=None, compared=0)
+    return dict(median=float(np.median(err)), p95=float(np.percentile(err, 95)), max=float(err.max()),
+                compared=int(both.sum()))
+
+
+def summarise(runs: FidelityRuns, ref: FidelityRuns) -> dict:
+    n = len(runs.traversals)
+    wall, sim_time = float(np.sum(runs.wall)), float(np.sum(runs.sim_time))
+    ref_wall = float(np.sum(ref.wall))
+    return dict(
+        name=runs.name, model=runs.model, dt=runs.dt, iterations=runs.iterations, substeps=runs.substeps,
+        outcome_agreement=sum(a == b for a, b in zip(runs.traversals, ref.traversals)) / n,
+        outcome_label_agreement=sum(a == b and c == d for a, b, c, d in
+                                    zip(runs.traversals, ref.traversals, runs.outcomes, ref.outcomes)) / n,
+        disagreements=[dict(design=i, traversals=a, reference=b, outcome=o, reference_outcome=ro)
+                       for i, (a, b, o, ro) in enumerate(zip(runs.traversals, ref.traversals, runs.outcomes,
+                                                             ref.outcomes)) if a != b],
+        detach_time_error=_errors(runs.t_detach, ref.t_detach),
+        detach_angle_error=_errors(runs.theta1_detach, ref.theta1_detach),
+        wall_per_design=wall / n,
+        wall_per_sim_second=wall / sim_time if sim_time > 0 else None,
+        realtime_factor=sim_time / wall if wall > 0 else None,
+        speedup_vs_reference=ref_wall / wall if wall > 0 else None,
+        mean_traversals=float(np.mean(runs.traversals)),
+    )
+
+
+def accuracy(cfg: Config, designs: int = 50, seed: int = 0, repeats: int = 3, fidelities=None,
+             check_reference: bool = False, progress=None) -> dict:
+    """The accuracy/time table of ``fidelities`` (default: the whole ladder) on ``designs`` designs."""
+    check_counts(designs=designs, repeats=repeats)
+    names = list(fidelities or FIDELITY_PRESETS)
+    for name in names:
+        fidelity_overrides(name)
+    if REFERENCE not in names:
+        names.append(REFERENCE)
+    if check_reference and REFINED not in names:
+        names.append(REFINED)
+    sample = draw_designs(cfg, designs, seed)
+    runs = {}
+    for name in names:
+        runs[name] = run_fidelity(sample, name, repeats)
+        if progress:
+            progress(name, runs[name])
+    ref = runs[REFERENCE]
+    rows = [summarise(runs[n], ref) for n in names]
+    out = dict(default=DEFAULT_FIDELITY, designs=designs, seed=seed, repeats=repeats, frames=cfg.scene.frames,
+               fidelities=rows,
+               reference_outcomes={o: ref.outcomes.count(o) for o in sorted(set(ref.outcomes))})
+    if check_reference:
+        out["reference_converged"] = reference_convergence(runs[REFERENCE], runs[REFINED])
+    return out
+
+
+# The tolerance within which the reference counts as converged: refining it (half the step, twice
+# the iterations) must change no design's traversal count and move the median first detach by
+# less than one reference step.
+def reference_convergence(ref: FidelityRuns, refined: FidelityRuns) -> dict:
+    agree = sum(a == b for a, b in zip(ref.traversals, refined.traversals)) / len(ref.traversals)
+    t_err = _errors(ref.t_detach, refined.t_detach)
+    return dict(outcome_agreement=agree, detach_time_error=t_err, tolerance_s=ref.dt,
+                converged=bool(agree == 1.0 and (t_err["median"] or 0.0) <= ref.dt))
+
+
+def table(report: dict) -> str:
+    head = (f"{'fidelity':>12} {'model':>7} {'dt ms':>7} {'iter':>4} {'s/design':>9} {'x real':>7} "
+            f"{'x ref':>7} {'agree':>6} {'t_det err ms (med/p95)':>23} {'th_det err deg':>15}")
+    lines = [f"{report['designs']} designs (seed {report['seed']}), {report['frames']} frames, median of "
+             f"{report['repeats']} runs each; default fidelity: {report['default']}", head]
+    for r in report["fidelities"]:
+        te, ae = r["detach_time_error"], r["detach_angle_error"]
+        terr = "-" if te["median"] is None else f"{te['median'] * 1e3:.2f} / {te['p95'] * 1e3:.2f}"
+        aerr = "-" if ae["median"] is None else f"{ae['median']:.2f} / {ae['p95']:.2f}"
+        mark = "*" if r["name"] == report["default"] else " "
+        lines.append(f"{r['name'] + mark:>12} {r['model']:>7} {r['dt'] * 1e3:7.4f} {r['iterations']:>4} "
+                     f"{r['wall_per_design']:9.4f} {r['realtime_factor']:7.1f} {r['speedup_vs_reference']:7.1f} "
+                     f"{100 * r['outcome_agreement']:5.1f}% {terr:>23} {aerr:>15}")
+    conv = report.get("reference_converged")
+    if conv:
+        te = conv["detach_time_error"]
+        lines.append(f"reference vs reference/2: {100 * conv['outcome_agreement']:.1f}% same traversals, first detach "
+                     f"median {1e3 * (te['median'] or 0):.3f} ms apart (tolerance {1e3 * conv['tolerance_s']:.4f} ms): "
+                     f"{'converged' if conv['converged'] else 'NOT converged'}")
+    return "\n".join(lines)
+
+
+def plot_pareto(report: dict, path: str) -> None:
+    """Outcome agreement against wall time per design: the accuracy/time Pareto front."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = [r for r in report["fidelities"]]
+    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=120)
+    xs = [r["wall_per_design"] for r in rows]
+    ys = [100 * r["outcome_agreement"] for r in rows]
+    front = sorted((x, y) for x, y in zip(xs, ys))
+    best, pareto = -1.0, []
+    for x, y in front:
+        if y > best:
+            pareto.append((x, y))
+            best = y
+    ax.step(*zip(*pareto), where="post", color="0.6", lw=1, zorder=1, label="Pareto front")
+    for r, x, y in zip(rows, xs, ys):
+        default = r["name"] == report["default"]
+        ax.scatter([x], [y], s=60 if default else 30, color="C3" if default else "C0", zorder=2)
+        ax.annotate(r["name"] + (" (default)" if default else ""), (x, y), textcoords="offset points",
+                    xytext=(5, -12 if y > 97 else 5), fontsize=8)
+    ax.set_xscale("log")
+    ax.set_xlabel("wall time per design (s, log)")
+    ax.set_ylabel("same traversal count as reference (%)")
+    ax.set_title(f"Accuracy vs time: {report['designs']} random designs, {report['frames']} frames", fontsize=10)
+    ax.set_ylim(min(ys) - 5, 101)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="lower right", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)

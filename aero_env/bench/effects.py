@@ -1,0 +1,66 @@
+"""``aero-env bench effects``: what each effect a scene can switch on costs, and what it changes.
+
+Each effect is toggled against the scene as configured, on the same designs and at the scene's
+own fidelity; everything else stays as it is:
+
+| effect                    | scene as configured (paper.yaml)  | toggled                       |
+|---------------------------|-----------------------------------|-------------------------------|
+| ``drag``                  | ``effects.drag: false``           | ``true``                      |
+| ``static_kinetic``        | ``effects.friction: static_kinetic`` | ``kinetic`` (one coefficient, no per-step switch) |
+| ``live_frames``           | ``effects.live_frames: 1``        | ``3`` (two more frames in the space) |
+
+For each: the median wall time per design with the effect and without it, their ratio (the
+effect's cost), and the designs whose traversal count the effect changes.
+"""
+
+from __future__ import annotations
+
+from ..config import Config
+from ..simulation import simulate
+from .designs import check_counts, draw_designs, median_time
+
+EFFECTS = {
+    "drag": ("scene.effects.drag", True, False),
+    "static_kinetic": ("scene.effects.friction", "static_kinetic", "kinetic"),
+    "live_frames": ("scene.effects.live_frames", 3, 1),
+}
+
+
+def effects(cfg: Config, designs: int = 30, seed: int = 0, repeats: int = 3) -> dict:
+    check_counts(designs=designs, repeats=repeats)
+    sample = draw_designs(cfg, designs, seed)
+    rows = []
+    for name, (key, on, off) in EFFECTS.items():
+        walls = {"on": 0.0, "off": 0.0}
+        traversals = {"on": [], "off": []}
+        for c in sample.configs:
+            for state, value in (("on", on), ("off", off)):
+                run_cfg = c.replace({key: value})
+                wall, r = median_time(lambda: simulate(run_cfg), repeats)
+                walls[state] += wall
+                traversals[state].append(r.traversals)
+        changed = [i for i, (a, b) in enumerate(zip(traversals["on"], traversals["off"])) if a != b]
+        rows.append(dict(effect=name, key=key, on=on, off=off, scene=_scene_value(cfg, key),
+                         wall_per_design_on=walls["on"] / designs, wall_per_design_off=walls["off"] / designs,
+                         cost_ratio=walls["on"] / walls["off"], outcomes_changed=len(changed),
+                         changed_designs=changed))
+    return dict(designs=designs, seed=seed, repeats=repeats, fidelity=cfg.sim.fidelity, effects=rows)
+
+
+def _scene_value(cfg: Config, key: str):
+    node = cfg
+    for part in key.split("."):
+        node = getattr(node, part)
+    return node
+
+
+def table(report: dict) -> str:
+    lines = [f"{report['designs']} designs (seed {report['seed']}) at fidelity {report['fidelity']}, median of "
+             f"{report['repeats']} runs each",
+             f"{'effect':>15} {'on':>15} {'off':>15} {'s/design on':>12} {'s/design off':>13} {'cost':>6} "
+             f"{'outcomes changed':>17}"]
+    for r in report["effects"]:
+        lines.append(f"{r['effect']:>15} {str(r['on']):>15} {str(r['off']):>15} {r['wall_per_design_on']:12.4f} "
+                     f"{r['wall_per_design_off']:13.4f} {r['cost_ratio']:5.2f}x "
+                     f"{r['outcomes_changed']:>8} of {report['designs']}")
+    return "\n".join(lines)
