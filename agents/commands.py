@@ -31,6 +31,11 @@ def register(sub, scene_command) -> None:
     tp.add_argument("--plot", metavar="FILE.png", help="optimisation-history plot (default: next to --out, "
                     "NAME_history.png)")
     tp.add_argument("--no-progress", action="store_true", help="no progress bar")
+    tp.add_argument("--screen", metavar="FIDELITY", help="multi-fidelity: score --screen-designs random designs at "
+                    "this cheap fidelity first (reduced: one vectorised batch), then confirm the best --trials of them "
+                    "at the config's own fidelity")
+    tp.add_argument("--screen-designs", type=int, default=20000, metavar="M",
+                    help="designs the screen scores (default 20000)")
     tp.set_defaults(func=cmd_tune)
 
     rp = scene_command(sub, "train", "train a policy that maps the scene's context to a design (stable-baselines3)")
@@ -62,7 +67,8 @@ def cmd_tune(args) -> int:
     cfg = load_scene(args)
     settings = TuneSettings(sampler=args.sampler, trials=args.trials, seeds_per_design=args.seeds_per_design,
                             seed=args.seed, storage=args.storage, study=args.study, workers=args.workers,
-                            progress=not args.no_progress).check()
+                            progress=not args.no_progress, screen=args.screen,
+                            screen_designs=args.screen_designs).check()
     try:
         result = tune(cfg, settings, config_name=Path(args.config).stem)
     except KeyboardInterrupt:

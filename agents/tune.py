@@ -24,6 +24,13 @@ trials it had in flight).
 
 With one worker and a fixed ``seed`` a study is reproducible; with several, the order in which
 trials finish (and so what the sampler learns when) depends on timing.
+
+Multi-fidelity tuning (``screen="reduced"``): before a new study's first trial, ``screen_designs``
+random designs (seeded by ``seed``) are scored at the cheap fidelity on the same episode draws,
+as one batch; the best ``trials`` of them, ranked by that score (ties in draw order), are
+enqueued, and the study confirms them at the config's own fidelity. The sampler then only
+proposes trials beyond those. What the screen cost and found is kept in the study, so a resumed
+study reports it without screening again.
 """
 
 from __future__ import annotations
@@ -41,7 +48,8 @@ from typing import Callable, Mapping
 
 import numpy as np
 
-from aero_env.config import Config, ConfigError, from_dict
+from aero_env.config import FIDELITY_PRESETS, Config, ConfigError, from_dict
+from aero_env.design_space import DesignSpace
 
 from .design_eval import DesignEvaluator
 from .options import check_choice, check_ints
@@ -65,11 +73,15 @@ class TuneSettings:
     study: str | None = None        # None: "<config stem>-<sampler>-s<seed>"
     workers: int = 1
     progress: bool = True
+    screen: str | None = None       # a cheaper fidelity to screen random designs with (e.g. reduced)
+    screen_designs: int = 20000     # designs the screen scores
 
     def check(self) -> "TuneSettings":
         check_choice("sampler", self.sampler, SAMPLERS)
         check_ints(self, (("trials", 1, 10**7), ("seeds_per_design", 1, 10**4), ("workers", 1, 512),
-                          ("seed", 0, 2**31 - 1)))
+                          ("seed", 0, 2**31 - 1), ("screen_designs", 1, 10**8)))
+        if self.screen is not None:
+            check_choice("screen", self.screen, tuple(FIDELITY_PRESETS))
         if self.storage is not None and self.storage != "memory" and "://" not in self.storage:
             raise ConfigError(f"--storage {self.storage!r}: must be 'memory' or a database URL "
                               f"(sqlite:///FILE.db, postgresql://USER@HOST:PORT/DB)")
@@ -109,6 +121,8 @@ class TuneResult:
     wall_time: float
     workers: list = field(default_factory=list)
     history: list = field(default_factory=list)   # (trial number, value) in trial order
+    screen: dict | None = None        # the multi-fidelity screen: fidelity, designs, wall_time, scores
+    fidelity: str = "mbd"             # the fidelity every trial was scored at
 
     def to_json_dict(self) -> dict:
         d = asdict(self)
@@ -256,9 +270,14 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
     name = settings.study_name(config_name)
     storage = open_storage(url)
     study = _load_study(cfg, settings, storage, name, make_sampler(settings.sampler, settings.seed))
+    t0 = time.perf_counter()
+    if settings.screen and not study.trials:
+        screened = screen(cfg, settings)
+        for action in screened.pop("actions"):
+            study.enqueue_trial({t.name: float(a) for t, a in zip(cfg.tunable, action)})
+        study.set_user_attr("screen", screened)
     done = len(_complete(study))
     remaining = max(0, settings.trials - done)
-    t0 = time.perf_counter()
     workers: list[dict] = []
     with _Progress(settings.trials, done, enabled=settings.progress and remaining > 0) as bar:
         if remaining and settings.workers == 1:
@@ -298,6 +317,38 @@ def _run_workers(cfg, settings, url, name, remaining, study, bar) -> list[dict]:
     return [dict(worker=w, trials=ran) for _, w, ran, _ in sorted(reports)]
 
 
+def screen(cfg: Config, settings: TuneSettings) -> dict:
+    """Score ``screen_designs`` random designs at fidelity ``screen`` on the evaluator's episode draws;
+    the best ``trials`` actions first. One vectorised batch when the fidelity is ``reduced``."""
+    from gymnasium.utils import seeding
+
+    from aero_env.simulation import simulate
+
+    t0 = time.perf_counter()
+    cheap = cfg.replace({"sim.fidelity": settings.screen})
+    space = DesignSpace(cheap)
+    rng = np.random.default_rng(settings.seed)
+    actions = rng.uniform(-1.0, 1.0, (settings.screen_designs, space.dim))
+    seeds = settings.eval_seeds if space.draws_anything else settings.eval_seeds[:1]
+    draws = [space.draw(seeding.np_random(s)[0]) for s in seeds]  # what env.reset(seed=s) draws
+    cfgs = [space.episode_config(space.values(a), d)[0] for a in actions for d in draws]
+    if cheap.sim.model == "reduced":
+        from aero_env.models.reduced import simulate_batch
+
+        res = simulate_batch(cfgs)
+        rewards = np.where(np.asarray(res.outcome) == "unstable", 0.0, np.asarray(res.traversals, float))
+    else:
+        rewards = np.array([0.0 if r.outcome == "unstable" else float(r.traversals) for r in map(simulate, cfgs)])
+    scores = rewards.reshape(len(actions), len(draws)).mean(axis=1)
+    order = np.argsort(-scores, kind="stable")[:settings.trials]  # ties: in draw order (seeded)
+    full_row = cfg.scene.frames - 1
+    return dict(fidelity=settings.screen, designs=len(actions), seeds=len(draws),
+                wall_time=time.perf_counter() - t0, best_score=float(scores.max()),
+                full_row_designs=int((scores >= full_row).sum()),
+                enqueued=len(order), enqueued_scores=[float(scores[i]) for i in order],
+                actions=[actions[i].tolist() for i in order])
+
+
 def _result(cfg, study, settings, url, name, wall, workers) -> TuneResult:
     done = sorted(_complete(study), key=lambda t: t.number)
     if not done:
@@ -311,7 +362,8 @@ def _result(cfg, study, settings, url, name, wall, workers) -> TuneResult:
                       best_action=[best.params[t.name] for t in cfg.tunable],
                       best_score={k: best.user_attrs[k] for k in ("rewards", "traversals", "outcomes")},
                       first_full_row_trial=first_full, full_row=full_row, wall_time=wall, workers=workers,
-                      history=[(t.number, float(t.value)) for t in done])
+                      history=[(t.number, float(t.value)) for t in done], screen=study.user_attrs.get("screen"),
+                      fidelity=cfg.sim.fidelity)
 
 
 class _Progress:
@@ -383,4 +435,9 @@ def summary_lines(result: TuneResult) -> list[str]:
              f"{result.best_score['traversals']} of {result.full_row}; the whole row first {first}",
              "best design:"]
     lines += [f"  {k} = {v:.6g}" for k, v in result.best_design.items()]
+    if result.screen:
+        s = result.screen
+        lines.insert(1, f"screened {s['designs']} designs at fidelity {s['fidelity']} in {s['wall_time']:.1f} s "
+                        f"({s['full_row_designs']} scored the whole row there); confirmed the best {s['enqueued']} "
+                        f"at {result.fidelity}")
     return lines
