@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .config import Config
+from .config import Config, ConfigError
 from .models import quasi_static, two_link
 from .models.two_link import SwingResult
 from .physics import simulate
@@ -96,6 +96,9 @@ def _increasing(x, y):
 
 def compare(cfg: Config) -> tuple[dict, dict]:
     """Run the three models, with and without drag. Returns (JSON summary, runs for plotting)."""
+    if cfg.sim.model != "mbd":
+        raise ConfigError(f"sim.fidelity = {cfg.sim.fidelity!r}: compare's MBD model is the pymunk world; choose a "
+                          f"pymunk fidelity (mbd-fast, mbd, mbd-fine, reference)")
     mbd, angle, _ = mbd_first_swing(cfg)
     mbd_drag, _, _ = mbd_first_swing(cfg, drag=True)
     theta2_0 = math.radians(cfg.scene.theta2_start_deg)  # the MBD's catch state

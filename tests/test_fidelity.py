@@ -167,3 +167,22 @@ def test_bench_throughput_steps_one_and_two_workers(capsys):
 def test_bench_options_name_the_bad_value(argv, needle, capsys):
     assert cli_main(argv) == 2
     assert needle in capsys.readouterr().err
+
+
+def test_the_env_scores_designs_with_the_reduced_model_and_refuses_to_draw_it(capsys):
+    reduced = gym.make("aero_env/AerialAcrobat-v0", **{"sim.fidelity": "reduced", "scene.frames": 3})
+    reduced.reset(seed=0)
+    _, reward, *_, info = reduced.step(reduced.unwrapped.action_for())
+    assert info["fidelity"] == "reduced" and info["outcome"] == "completed" and reward == 2.0
+    weak = reduced.unwrapped.action_for({"design.spring_k": 2e-4, "design.mu_s": 0.3})
+    _, reward, *_, info = reduced.step(weak)
+    assert reward == 0.0 and info["outcome"] == "missed_catch"  # as in the pymunk world (test_env)
+    with pytest.raises(ConfigError, match="render_mode = 'rgb_array'.*nothing to draw"):
+        gym.make("aero_env/AerialAcrobat-v0", render_mode="rgb_array", **{"sim.fidelity": "reduced"})
+    assert cli_main(["simulate", str(PAPER), "--set", "sim.fidelity=reduced", "--gif", "x.gif"]) == 2
+    assert "no trace or animation" in capsys.readouterr().err
+
+
+def test_compare_needs_a_pymunk_fidelity(capsys):
+    assert cli_main(["compare", str(PAPER), "--set", "sim.fidelity=reduced"]) == 2
+    assert "compare's MBD model is the pymunk world" in capsys.readouterr().err

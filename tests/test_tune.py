@@ -170,3 +170,44 @@ def test_cli_tune_bad_input_names_the_option(tmp_path, args, words):
     assert "Traceback" not in done.stderr
     for w in words:
         assert w in done.stderr
+
+
+# ---- multi-fidelity: screen with the reduced model, confirm in the pymunk world ----
+def test_screening_enqueues_the_reduced_models_best_and_confirms_them_in_pymunk(tmp_path):
+    import optuna
+    from gymnasium.utils import seeding
+
+    from aero_env.design_space import DesignSpace
+    from aero_env.models.reduced import simulate_batch
+    from agents.tune import open_storage, screen
+
+    cfg = load_config(STEEP)
+    settings = TuneSettings(sampler="cmaes", trials=6, seed=0, screen="reduced", screen_designs=400,
+                            storage=f"sqlite:///{tmp_path / 's.db'}", study="screened", **QUIET).check()
+    screened = screen(cfg, settings)
+    assert screened["designs"] == 400 and screened["enqueued"] == 6 and len(screened["actions"]) == 6
+    # ranked by the reduced model's reward, which the same designs reproduce in a batch of their own
+    scores = screened["enqueued_scores"]
+    assert scores == sorted(scores, reverse=True) and scores[0] == screened["best_score"]
+    space = DesignSpace(cfg.replace({"sim.fidelity": "reduced"}))
+    draw = space.draw(seeding.np_random(0)[0])  # what env.reset(seed=0) draws
+    again = [space.episode_config(space.values(np.array(a)), draw)[0] for a in screened["actions"]]
+    assert list(simulate_batch(again).traversals) == [int(s) for s in scores]
+
+    result = tune(cfg, settings, "steep")
+    assert result.fidelity == "mbd" and result.screen["fidelity"] == "reduced" and result.trials == 6
+    # the study's trials are the screened designs, in rank order, each scored in the pymunk world
+    assert [n for n, _ in result.history] == list(range(6))
+    study = optuna.load_study(study_name="screened", storage=open_storage(settings.resolved_storage()))
+    params = [[tr.params[t.name] for t in cfg.tunable] for tr in sorted(study.trials, key=lambda tr: tr.number)]
+    assert np.allclose(params, screened["actions"])
+    # resuming to 8 trials screens nothing again: the sampler proposes the 2 new ones
+    more = tune(cfg, TuneSettings(**{**settings.__dict__, "trials": 8}), "steep")
+    assert more.trials == 8 and more.trials_run == 2 and more.screen == result.screen
+
+
+def test_screen_option_is_checked():
+    with pytest.raises(ConfigError, match="--screen 'exact'"):
+        TuneSettings(screen="exact").check()
+    with pytest.raises(ConfigError, match="--screen-designs 0"):
+        TuneSettings(screen="reduced", screen_designs=0).check()

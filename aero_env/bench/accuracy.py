@@ -154,14 +154,20 @@ def accuracy(cfg: Config, designs: int = 50, seed: int = 0, repeats: int = 3, fi
     return out
 
 
-# The tolerance within which the reference counts as converged: refining it (half the step, twice
-# the iterations) must change no design's traversal count and move the median first detach by
-# less than one reference step.
+# The reference counts as converged when refining it (half the step, twice the iterations) keeps
+# the traversal count of at least 99 % of the designs and moves the median first detach by at most
+# one default step. Not 100 %: about 1 % of random designs sit on an outcome boundary, where a
+# 31 µs change of step decides the count at any step size (README, "What accuracy costs in time").
+CONVERGED_AGREEMENT = 0.99
+CONVERGED_DETACH_S = FIDELITY_PRESETS[DEFAULT_FIDELITY]["dt"]
+
+
 def reference_convergence(ref: FidelityRuns, refined: FidelityRuns) -> dict:
     agree = sum(a == b for a, b in zip(ref.traversals, refined.traversals)) / len(ref.traversals)
     t_err = _errors(ref.t_detach, refined.t_detach)
-    return dict(outcome_agreement=agree, detach_time_error=t_err, tolerance_s=ref.dt,
-                converged=bool(agree == 1.0 and (t_err["median"] or 0.0) <= ref.dt))
+    return dict(outcome_agreement=agree, detach_time_error=t_err, tolerance_agreement=CONVERGED_AGREEMENT,
+                tolerance_s=CONVERGED_DETACH_S,
+                converged=bool(agree >= CONVERGED_AGREEMENT and (t_err["median"] or 0.0) <= CONVERGED_DETACH_S))
 
 
 def table(report: dict) -> str:
@@ -180,8 +186,9 @@ def table(report: dict) -> str:
     conv = report.get("reference_converged")
     if conv:
         te = conv["detach_time_error"]
-        lines.append(f"reference vs reference/2: {100 * conv['outcome_agreement']:.1f}% same traversals, first detach "
-                     f"median {1e3 * (te['median'] or 0):.3f} ms apart (tolerance {1e3 * conv['tolerance_s']:.4f} ms): "
+        lines.append(f"reference vs reference/2: {100 * conv['outcome_agreement']:.1f}% same traversals (tolerance "
+                     f">= {100 * conv['tolerance_agreement']:.0f}%), first detach median {1e3 * (te['median'] or 0):.3f} "
+                     f"ms apart (tolerance {1e3 * conv['tolerance_s']:.2f} ms): "
                      f"{'converged' if conv['converged'] else 'NOT converged'}")
     return "\n".join(lines)
 
