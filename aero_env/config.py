@@ -117,8 +117,8 @@ class Scene:
 # The fidelity ladder, cheapest to most accurate. A preset is data: it fills the sim fields it
 # names, and a field the config names beside it wins (see ``from_dict``). ``model`` picks the
 # engine: ``mbd`` is the pymunk world, ``reduced`` the two-link swing with ballistic flight and a
-# geometric catch test (no pymunk; ``dt`` is then its integration step). ``reference`` is the step and iteration count
-# past which refining (half the step, twice the iterations) keeps the traversal count of >= 99 %
+# geometric catch test (no pymunk; ``dt`` is then its integration step). ``reference`` is the step
+# and iteration count past which refining (half the step, twice the iterations) keeps the traversal count of >= 99 %
 # of random designs and moves the median first detach by <= one default step (measured: 99.0 %,
 # 0.19 ms on 200 designs): README "What accuracy costs in time" gives the study and the rungs.
 FIDELITY_PRESETS: dict[str, dict[str, Any]] = {
@@ -261,10 +261,12 @@ class Config:
         """The whole config as YAML that :func:`load_config` reads back to an equal config."""
         return yaml.safe_dump(self.to_dict(), sort_keys=False)
 
-    def value(self, key: str) -> float:
-        """A real-valued field by dotted key, e.g. ``cfg.value("design.m3")``."""
-        section, name = key.split(".", 1)
-        return getattr(getattr(self, section), name)
+    def value(self, key: str) -> Any:
+        """A field by dotted key, e.g. ``cfg.value("design.m3")`` or ``cfg.value("scene.effects.drag")``."""
+        node: Any = self
+        for name in key.split("."):
+            node = getattr(node, name)
+        return node
 
     def with_values(self, values: Mapping[str, float]) -> "Config":
         """A new config with real-valued ``design.*``/``scene.*`` fields set, each checked against its

@@ -9,7 +9,7 @@
            (:mod:`aero_env.models.reduced`): no pymunk, vectorised over many designs
 =========  ==========================================================================
 
-Both return a :class:`~aero_env.physics.run.SimResult`. This module sits above the physics
+Both return a :class:`~aero_env.results.SimResult`. This module sits above the physics
 and the models; neither of them imports it.
 """
 

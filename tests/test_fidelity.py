@@ -1,7 +1,6 @@
 """The fidelity ladder: presets as data, substeps, the default against the reference, the benchmarks."""
 
 import json
-import math
 
 import gymnasium as gym
 import pytest

@@ -200,7 +200,7 @@ def plot_pareto(report: dict, path: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    rows = [r for r in report["fidelities"]]
+    rows = report["fidelities"]
     fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=120)
     xs = [r["wall_per_design"] for r in rows]
     ys = [100 * r["outcome_agreement"] for r in rows]

@@ -40,18 +40,11 @@ def effects(cfg: Config, designs: int = 30, seed: int = 0, repeats: int = 3) -> 
                 walls[state] += wall
                 traversals[state].append(r.traversals)
         changed = [i for i, (a, b) in enumerate(zip(traversals["on"], traversals["off"])) if a != b]
-        rows.append(dict(effect=name, key=key, on=on, off=off, scene=_scene_value(cfg, key),
+        rows.append(dict(effect=name, key=key, on=on, off=off, scene=cfg.value(key),
                          wall_per_design_on=walls["on"] / designs, wall_per_design_off=walls["off"] / designs,
                          cost_ratio=walls["on"] / walls["off"], outcomes_changed=len(changed),
                          changed_designs=changed))
     return dict(designs=designs, seed=seed, repeats=repeats, fidelity=cfg.sim.fidelity, effects=rows)
-
-
-def _scene_value(cfg: Config, key: str):
-    node = cfg
-    for part in key.split("."):
-        node = getattr(node, part)
-    return node
 
 
 def table(report: dict) -> str:

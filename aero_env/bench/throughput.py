@@ -36,7 +36,6 @@ def throughput(cfg: Config, episodes: int = 40, repeats: int = 3, seed: int = 0,
     dim = len(cfg.tunable)
     designs = np.random.default_rng(seed).uniform(-1, 1, (episodes, dim)).astype(np.float32)
     for w in workers:
-        check_counts(workers=w)
         envs = _vector_env(cfg, w)
         try:
             envs.reset(seed=seed)

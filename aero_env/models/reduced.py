@@ -105,8 +105,10 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
+from .. import results as say
 from .. import units
 from ..config import Config, ConfigError, real_field
+from ..results import NEAR_STOP_DEG, REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, SimResult, Swing
 
 # ---- numerical choices ----
 STEP = 4e-3  # s: RK4 step. From 0.5 to 4 ms the prototype's first detach stays within 0.7 ms / 0.25 deg and the
@@ -124,12 +126,6 @@ PIVOT_SLIP_RATE = 0.05  # rad/s: the hook tip's friction torque grows linearly u
 # to the frame, then stays at mu·r·N (a smooth Coulomb law: near-stiction, and stiff enough only to need rate·dt < 1)
 MOUTH_END_REACH = 1.0  # the catch window reaches this many hook/card clearances past each face's end
 ENERGY_BARRIER_MARGIN = 0.02  # of the swing's energy scale: the barrier test's safety margin (grid minima)
-
-# ---- the runner's thresholds (aero_env.physics.run) ----
-TURN_BACK_DEG = 20.0  # a hooked frame this far below its peak angle has turned back
-NEAR_STOP_DEG = 10.0  # a turn-back this close to the stop is the high-friction failure (no_detach)
-STOP_TOLERANCE = 1e-3  # rad: a frame this close to its stop angle is at its stop
-REST_MOVE_DEG = 0.5  # a frame that never turned this far from its rest angle has not moved
 
 OUTCOMES = ("completed", "no_detach", "stalled", "fell_short", "missed_catch")
 _C, _ND, _ST, _FS, _MC = range(5)
@@ -418,17 +414,19 @@ def _solve3(M, r0, r1, r2, lk1, lkA):
     return [xf[0] - both * xf[0], xf[1] + both * (y - xf[1]), xf[2] + both * (y - xf[2])]
 
 
+def _trig3(th1, pa, pt):
+    """cos and sin of the frame, arm and torso angles, in one call each (at TRIG_DTYPE precision)."""
+    ang = np.empty((3, len(th1)), dtype=TRIG_DTYPE)
+    ang[0], ang[1], ang[2] = th1, pa, pt
+    return np.cos(ang).astype(np.float64), np.sin(ang).astype(np.float64)
+
+
 def _stick_eval(P, X, c, th1, pa, pt, w1, wa, wt, extras=False):
     """Accelerations (theta1, phi_a, phi_t) of hooked designs whose hook sticks (s fixed): the 3x3 mass matrix
     inverted by cofactors, the stops' constraints as projections. c: per-step constants (px, py, M00, lock
     weights). With extras: also the joint force, the stops' loads and the frame's cos/sin (stage 1)."""
     px, py, A, wf, wa_, wb, lin = c
-    ang = np.empty((3, len(th1)), dtype=TRIG_DTYPE)
-    ang[0], ang[1], ang[2] = th1, pa, pt
-    co = np.cos(ang).astype(np.float64)
-    si = np.sin(ang).astype(np.float64)
-    c1, ca, ct = co
-    s1, sa, st = si
+    (c1, ca, ct), (s1, sa, st) = _trig3(th1, pa, pt)
     m, Pa, Pt = P.m, P.Pa, P.Pt
     Hx, Hy = c1 * px - s1 * py, s1 * px + c1 * py
     D = Pa * (Hx * ca + Hy * sa)
@@ -533,12 +531,7 @@ def _slide_eval(P, X, c, th1, s, pa, pt, w1, ws, wa, wt, extras=False):
     kinetic friction -mu_k·N·sig with N (the face's normal force) linear in the accelerations; s is eliminated
     and the remaining 3x3 solved by Cramer's rule (the stops as substitutions). With extras: also N."""
     ux, uy, nx, ny, musig, lk1, lkA, lin = c
-    ang = np.empty((3, len(th1)), dtype=TRIG_DTYPE)
-    ang[0], ang[1], ang[2] = th1, pa, pt
-    co = np.cos(ang).astype(np.float64)
-    si = np.sin(ang).astype(np.float64)
-    c1, ca, ct = co
-    s1, sa, st = si
+    (c1, ca, ct), (s1, sa, st) = _trig3(th1, pa, pt)
     m, Pa, Pt = P.m, P.Pa, P.Pt
     px, py = P.p0x + s * ux, P.p0y + s * uy
     Hx, Hy = c1 * px - s1 * py, s1 * px + c1 * py
@@ -585,7 +578,7 @@ def _slide_eval(P, X, c, th1, s, pa, pt, w1, ws, wa, wt, extras=False):
         x0, x1, x2 = x0 - lk1 * x0, x1 + lk1 * (y1 - x1), x2 + lk1 * (y2 - x2)
     if lkA is not None:  # the arm held: phi_a'' = phi_t'' = y, rows 0 and 1 + 2
         h0, h1 = g01 + g02, g11 + g12 + g21 + g22
-        e0, e1 = g00, g10 + g20
+        e1 = g10 + g20
         inv2 = 1.0 / (g00 * h1 - h0 * e1)
         z0, y = (g0 * h1 - h0 * (g1 + g2)) * inv2, (g00 * (g1 + g2) - e1 * g0) * inv2
         if lk1 is not None:  # both: the robot's rigid turn only
@@ -1069,7 +1062,7 @@ class _Run:
         since = t1 - S.t_catch[rows]
         timeout = ~held & ~turned & (since > P.swing_timeout[rows])
         rest = P.rest[rows]
-        unmoved = peak < rest + np.radians(REST_MOVE_DEG)
+        unmoved = peak < rest + REST_MOVE
         at_rest = ~held & ~turned & ~timeout & unmoved & (since > P.rest_timeout[rows])
         # the model's own early end (STALL_WINDOW): the runner would run these to its timeouts
         low = peak < rest + np.radians(TURN_BACK_DEG)
@@ -1595,49 +1588,40 @@ def _batch_result(run: _Run, wall: float) -> BatchResult:
 
 
 def _reason_text(code: int, v1: float, v2: float, origin: int, P, i: int) -> str:
-    nxt = origin + 1
-    where = f"after leaving frame {origin}"
-    mm = 1e3
+    """The sentence for a reason code, in the words the pymunk runner uses (:mod:`aero_env.results`);
+    the energy-barrier stalls are this model's own."""
     if code == _R_COMPLETED:
-        return f"caught by the last frame ({origin})"
+        return say.completed(origin)
     if code == _R_STOP_HOLD:
-        return (f"hook still on frame {origin} {P.stop_hold[i]} s after it reached its stop "
-                f"({math.degrees(P.stop[i]):.0f} deg): friction held the hook")
+        return say.held_at_stop(origin, P.stop_hold[i], math.degrees(P.stop[i]))
     if code == _R_TURN_NEAR_STOP:
-        return (f"frame {origin} reached {v1:.1f} deg, near its stop, and turned back under the robot: friction "
-                f"held the hook")
+        return say.turned_back_near_stop(origin, v1)
     if code == _R_TURN_BACK:
-        return (f"frame {origin} turned back at {v1:.1f} deg, short of its stop, with the robot hooked: too little "
-                f"moment imbalance")
+        return say.turned_back(origin, v1)
     if code == _R_TIMEOUT:
-        return f"swing on frame {origin} lasted over {P.swing_timeout[i]} s"
+        return say.swing_too_long(origin, P.swing_timeout[i])
     if code == _R_BARRIER:
         return (f"swing on frame {origin} would last over {P.swing_timeout[i]} s: the frame cannot climb "
                 f"{TURN_BACK_DEG:.0f} deg above its rest with the energy it has, or fell back to its rest stop "
                 f"(too little moment imbalance)")
     if code == _R_AT_REST:
-        return (f"frame {origin} never left its rest angle in {P.rest_timeout[i]} s with the robot hooked: the "
-                f"counterbalance outweighs the robot")
+        return say.never_left_rest(origin, P.rest_timeout[i])
     if code == _R_BARRIER_REST:
         return (f"frame {origin} would never leave its rest angle in {P.rest_timeout[i]} s with the robot hooked "
                 f"(it cannot climb with the energy it has): the counterbalance outweighs the robot")
     if code == _R_STIFF:
-        return (f"{where}: the arm was at {v1:.0f} deg when the hook let go, with no swing left to reach frame "
-                f"{nxt} (spring too stiff to bend)")
+        return say.spring_too_stiff(origin, v1)
     if code == _R_LOW:
-        level = f"only {v1 * mm:.1f} mm above" if v1 >= 0 else f"{-v1 * mm:.1f} mm below"
-        return (f"{where}: the hook slipped off {level} frame {nxt}'s handrail, before the frame had lifted the "
-                f"robot high enough")
+        return say.released_low(origin, v1)
     if code == _R_NEVER_DOWN:
-        return f"{where}: the hook never came down to frame {nxt}'s handrail"
+        return say.never_came_down(origin)
     if code == _R_WEAK:
-        return (f"{where}: the arm had swung only {v1:.0f} deg forward when the hook came down to frame {nxt}'s "
-                f"handrail (spring too weak)")
+        return say.spring_too_weak(origin, v1)
     if code == _R_BEHIND:
-        return f"{where}: the hook passed {v1 * mm:.1f} mm behind frame {nxt}'s handrail"
+        return say.passed_behind(origin, v1)
     if code == _R_AHEAD:
-        return f"{where}: the hook passed {v1 * mm:.1f} mm ahead of frame {nxt}'s handrail or bounced off"
-    return f"reached sim.t_max = {P.t_max[i]} s"
+        return say.passed_ahead(origin, v1)
+    return say.reached_t_max(P.t_max[i])
 
 
 def swing_trace(cfg: Config, t_end: float, dt: float | None = None, detach: bool = False) -> dict:
@@ -1671,9 +1655,8 @@ def swing_trace(cfg: Config, t_end: float, dt: float | None = None, detach: bool
 
 
 def simulate_reduced(cfg: Config, dt: float | None = None):
-    """One config through the reduced model, as the pymunk runner's :class:`~aero_env.physics.run.SimResult`
-    (same fields; the energy is the model's: frames, robot parts and spring; health is all zeros)."""
-    from ..physics.run import SimResult, Swing  # the result types only (lazy: the model itself needs no pymunk)
+    """One config through the reduced model, as a :class:`~aero_env.results.SimResult` (the pymunk
+    runner's fields; the energy is the model's: frames, robot parts and spring; health is all zeros)."""
 
     wall0 = time.perf_counter()
     frames = _check_scene([cfg])

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import pymunk
 
+from ..results import FRICTION_HELD
 from .swing_frame import HANDRAIL, HOOK
 
 
@@ -36,7 +37,7 @@ class StaticKineticFriction:
         self.hook = contact.hook_shape
         self.arm = self.hook.body
         self.tip_local = self.hook.offset
-        self.rail_body = {i: f.body for i, f in enumerate(contact.frames)}
+        self.frames = contact.frames
 
     def before_step(self) -> None:
         touching = self.contact.touching
@@ -46,7 +47,7 @@ class StaticKineticFriction:
         # part is zero, so its length is the slip speed (both faces of the corner share the body).
         arm = self.arm
         p = arm.local_to_world(self.tip_local)
-        v = arm.velocity_at_world_point(p) - self.rail_body[next(iter(touching))].velocity_at_world_point(p)
+        v = arm.velocity_at_world_point(p) - self.frames[next(iter(touching))].body.velocity_at_world_point(p)
         sliding = v.length > self.slip_speed
         if sliding != self.sliding:
             self.sliding = sliding
@@ -78,7 +79,7 @@ def friction_law(name: str, mu_s: float, mu_k: float, slip_speed: float):
 class HookContact:
     """Registers the hook/handrail collision handler and tracks which frames the tip touches."""
 
-    holding_note = ": friction held the hook"
+    holding_note = FRICTION_HELD
 
     def __init__(self, hook_shape: pymunk.Shape, frames, law):
         self.law = law

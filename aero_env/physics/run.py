@@ -23,58 +23,17 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import asdict, dataclass, field
-
 import numpy as np
 
+from .. import results as say
 from .. import units
 from ..config import Config
+from ..results import NEAR_STOP_DEG, REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, SimResult, Swing
 from .world import World
 
-TURN_BACK_DEG = 20.0  # a hooked frame this far below its peak angle has turned back
-NEAR_STOP_DEG = 10.0  # a turn-back this close to the stop is the high-friction failure (no_detach)
-STOP_TOLERANCE = 1e-3  # rad: a frame this close to its stop angle is at its stop
-REST_MOVE = math.radians(0.5)  # a frame that never turned this far from its rest angle has not moved
+__all__ = ["simulate", "SimResult", "Swing", "TRACE_COLUMNS"]
+
 TRACE_COLUMNS = ("t", "frame", "theta1", "theta2", "alpha", "omega1", "omega2", "alpha_rate", "contact", "energy")
-
-
-@dataclass
-class Swing:
-    frame: int
-    t_catch: float
-    theta1_catch_deg: float
-    theta2_catch_deg: float
-    t_detach: float | None = None
-    theta1_detach_deg: float | None = None
-    swing_duration: float | None = None
-    alpha_detach_deg: float | None = None
-    theta2_min_deg: float | None = None
-    theta2_max_deg: float | None = None
-
-
-@dataclass
-class SimResult:
-    traversals: int
-    frames: int
-    outcome: str
-    reason: str
-    swings: list[Swing]
-    energy: dict
-    sim_time: float
-    wall_time: float
-    miss_distance: float | None = None  # m: closest the hook came to the next handrail's seat in the failed transfer
-    health: dict = field(default_factory=dict)  # largest joint drift (m), limit overshoot (deg), penetration (m)
-    fidelity: str = "mbd"  # the sim.fidelity preset the run was made at
-    trace: dict | None = field(default=None, repr=False)
-    poses: list | None = field(default=None, repr=False)
-    geometry: dict | None = field(default=None, repr=False)
-
-    def to_json_dict(self) -> dict:
-        """The fields of ``aero-env simulate --json`` (no trace or poses)."""
-        return dict(traversals=self.traversals, frames=self.frames, outcome=self.outcome, reason=self.reason,
-                    swings=[asdict(s) for s in self.swings], energy=dict(self.energy),
-                    sim_time=self.sim_time, wall_time=self.wall_time, miss_distance=self.miss_distance,
-                    health=dict(self.health), fidelity=self.fidelity)
 
 
 class _Flight:
@@ -113,8 +72,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
     and detach times are step-exact) and, in flight, the watch for the arm's snap and the
     hook's descent past the next seat. The frame's peak, its stop, the floor, the time limits,
     the energy and the health monitors are read every ``sim.check_interval`` (5 ms), far finer
-    than the thresholds they test (a 20 deg turn-back, a 0.3 s
-    stop hold, a 1 s rest timeout).
+    than the thresholds they test (a 20 deg turn-back, a 0.3 s stop hold, a 1 s rest timeout).
     """
     wall0 = time.perf_counter()
     world = World(cfg)
@@ -149,7 +107,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
     t_touch = 0.0  # the last runner step at which the hook touched its frame
     t_stop: float | None = None
     theta1_peak = frames[0].theta
-    outcome, reason = "timeout", f"reached sim.t_max = {sim.t_max} s"
+    outcome, reason = "timeout", say.reached_t_max(sim.t_max)
     n_max = int(math.ceil(sim.t_max / step_s))
     next_seat = frames[1].hook_seat_world() if n_frames > 1 else None
     closest = math.inf  # engine units: hook to next_seat since the last catch, on the check cadence
@@ -183,27 +141,24 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                 if theta1 >= near_stop:
                     t_stop = t if t_stop is None else t_stop
                     if t - t_stop >= sim.stop_hold:
-                        outcome, reason = "no_detach", (
-                            f"hook still on frame {cur.index} {sim.stop_hold} s after it reached its stop "
-                            f"({math.degrees(p.stop_angle):.0f} deg){contact.holding_note}")
+                        outcome, reason = "no_detach", say.held_at_stop(cur.index, sim.stop_hold,
+                                                                        math.degrees(p.stop_angle), contact.holding_note)
                         break
                 else:
                     t_stop = None
                     if theta1 < theta1_peak - turn_back:
                         peak = math.degrees(theta1_peak)
                         if theta1_peak >= near_stop_turn:
-                            outcome, reason = "no_detach", (f"frame {cur.index} reached {peak:.1f} deg, near its stop, "
-                                                            f"and turned back under the robot{contact.holding_note}")
+                            outcome, reason = "no_detach", say.turned_back_near_stop(cur.index, peak,
+                                                                                     contact.holding_note)
                         else:
-                            outcome, reason = "stalled", (f"frame {cur.index} turned back at {peak:.1f} deg, short of "
-                                                          f"its stop, with the robot hooked: too little moment imbalance")
+                            outcome, reason = "stalled", say.turned_back(cur.index, peak)
                         break
                 if theta1_peak < p.rest_angle + REST_MOVE and t - swings[-1].t_catch > sim.rest_timeout:
-                    outcome, reason = "stalled", (f"frame {cur.index} never left its rest angle in {sim.rest_timeout} s "
-                                                  f"with the robot hooked: the counterbalance outweighs the robot")
+                    outcome, reason = "stalled", say.never_left_rest(cur.index, sim.rest_timeout)
                     break
                 if t - swings[-1].t_catch > sim.swing_timeout:
-                    outcome, reason = "stalled", f"swing on frame {cur.index} lasted over {sim.swing_timeout} s"
+                    outcome, reason = "stalled", say.swing_too_long(cur.index, sim.swing_timeout)
                     break
         else:  # ---- in flight from frame flight.origin ----
             nxt = flight.origin + 1
@@ -219,7 +174,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                     th2_lo = th2_hi = swings[-1].theta2_catch_deg
                     flight, t_stop, theta1_peak, t_touch = None, None, cur.theta, t
                     if nxt == n_frames - 1:
-                        outcome, reason = "completed", f"caught by the last frame ({nxt})"
+                        outcome, reason = "completed", say.completed(nxt)
                         break
                     next_seat = frames[nxt + 1].hook_seat_world()
                     closest = math.inf
@@ -231,7 +186,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
             if check:
                 com = robot.com_world()
                 if com.y < world.floor_y(com.x) or t - flight.t_detach > sim.flight_timeout:
-                    outcome, reason = _classify_miss(flight, nxt, half_range, p, sim.min_release_height * units.LENGTH)
+                    outcome, reason = _classify_miss(flight, half_range, p, sim.min_release_height * units.LENGTH)
                     break
 
         sample = None
@@ -307,7 +262,7 @@ def _trace_row(world: World, t: float, sample) -> tuple:
             touching[0] if touching else -1, sample.energy)
 
 
-def _classify_miss(flight: _Flight, nxt: int, half_range: float, p, min_release_height: float) -> tuple[str, str]:
+def _classify_miss(flight: _Flight, half_range: float, p, min_release_height: float) -> tuple[str, str]:
     """Name a failed transfer by its cause, in this order:
 
     1. the arm had less than half its range left at detach -> ``missed_catch`` (spring too stiff:
@@ -318,23 +273,17 @@ def _classify_miss(flight: _Flight, nxt: int, half_range: float, p, min_release_
        (spring too weak for the fall);
     4. the arm was ready: the hook passed behind the handrail -> ``fell_short``, ahead -> ``missed_catch``.
     """
-    mm = 1e3 / units.LENGTH
-    where = f"after leaving frame {flight.origin}"
+    si = units.length_to_si
     room = flight.alpha_detach - p.alpha_min
     if room < half_range:
-        return "missed_catch", (f"{where}: the arm was at {math.degrees(flight.alpha_detach):.0f} deg when the hook "
-                                f"let go, with no swing left to reach frame {nxt} (spring too stiff to bend)")
+        return "missed_catch", say.spring_too_stiff(flight.origin, math.degrees(flight.alpha_detach))
     if flight.height < min_release_height:
-        level = (f"only {flight.height * mm:.1f} mm above" if flight.height >= 0
-                 else f"{-flight.height * mm:.1f} mm below")
-        return "fell_short", (f"{where}: the hook slipped off {level} frame {nxt}'s handrail, before the frame had "
-                              f"lifted the robot high enough")
+        return "fell_short", say.released_low(flight.origin, si(flight.height))
     if flight.crossing is None:
-        return "missed_catch", f"{where}: the hook never came down to frame {nxt}'s handrail"
+        return "missed_catch", say.never_came_down(flight.origin)
     dx, alpha_cross = flight.crossing
     if flight.t_snap is None or flight.t_snap > flight.t_cross:
-        return "missed_catch", (f"{where}: the arm had swung only {math.degrees(flight.alpha_detach - alpha_cross):.0f}"
-                                f" deg forward when the hook came down to frame {nxt}'s handrail (spring too weak)")
+        return "missed_catch", say.spring_too_weak(flight.origin, math.degrees(flight.alpha_detach - alpha_cross))
     if dx < 0:
-        return "fell_short", f"{where}: the hook passed {-dx * mm:.1f} mm behind frame {nxt}'s handrail"
-    return "missed_catch", f"{where}: the hook passed {dx * mm:.1f} mm ahead of frame {nxt}'s handrail or bounced off"
+        return "fell_short", say.passed_behind(flight.origin, si(-dx))
+    return "missed_catch", say.passed_ahead(flight.origin, si(dx))

@@ -9,9 +9,9 @@ its callback) and the floor. Built only when the scene names it: :class:`AirDrag
 Frames are simulated only inside a live window around the robot's frame: the one it just
 left (still turning to its stopper), its own, and ``effects.live_frames`` ahead. Frames
 further back have reached their stop and are retired from the space; frames further ahead
-wait at rest and are not in the space yet. The step loop itself has no per-effect branches: a part that must act once per step (the
-static/kinetic friction switch) hands the world its ``before_step``, and the world runs the
-ones it was given.
+wait at rest and are not in the space yet. The step loop itself has no per-effect branches: a
+part that must act once per step (the static/kinetic friction switch) hands the world its
+``before_step``, and the world runs the ones it was given.
 """
 
 from __future__ import annotations
@@ -45,7 +45,10 @@ class Sample(NamedTuple):
     max_speed: float  # engine units: the fastest live body's centre of gravity
     theta2: float  # rad: robot line from its centre of mass to the hook
     hook: tuple[float, float]  # engine units
-    health: tuple[float, float, float]  # SI: joint drift (m), limit overshoot (rad), penetration (m)
+    # How far the solver lets the machine's constraints give, SI, near zero in a healthy run: joint
+    # drift (m: frame skewers, robot axle, pinned hook), limit overshoot (rad: frame stoppers, arm
+    # stopper), hook penetration into a handrail card (m).
+    health: tuple[float, float, float]
 
 
 class World:
@@ -173,12 +176,6 @@ class World:
     def energy(self) -> float:
         """Total mechanical energy in joules: kinetic + gravitational + spring, over every frame and the robot."""
         return self.sample().energy
-
-    def health(self) -> tuple[float, float, float]:
-        """How far the solver lets the machine's constraints give, in SI: (joint drift in m: frame
-        skewers, robot axle, pinned hook; limit overshoot in rad: frame stoppers, arm stopper;
-        hook penetration into a handrail card in m). Near zero in a healthy run."""
-        return self.sample().health
 
     def _energy_of(self, b: pymunk.Body, st: tuple) -> float:
         m, moment, cgx, cgy = self._mass_props[b]

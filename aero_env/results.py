@@ -1,0 +1,124 @@
+"""What a run returns and how it names its end, the same at every fidelity.
+
+Both engines (the pymunk runner, :mod:`aero_env.physics.run`, and the reduced model,
+:mod:`aero_env.models.reduced`) return a :class:`SimResult`, judge a hooked frame by the same
+thresholds, and write the same sentence for the same cause, so a result reads alike whichever
+fidelity made it. Sentences take SI values (m, s) and angles in degrees. Nothing here imports
+an engine.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+
+# ---- when a hooked frame's swing has ended ----
+TURN_BACK_DEG = 20.0  # a hooked frame this far below its peak angle has turned back
+NEAR_STOP_DEG = 10.0  # a turn-back this close to the stop is the high-friction failure (no_detach)
+STOP_TOLERANCE = 1e-3  # rad: a frame this close to its stop angle is at its stop
+REST_MOVE = math.radians(0.5)  # a frame that never turned this far from its rest angle has not moved
+
+FRICTION_HELD = ": friction held the hook"  # how a no_detach says the hook's friction is what held it
+
+
+@dataclass
+class Swing:
+    frame: int
+    t_catch: float
+    theta1_catch_deg: float
+    theta2_catch_deg: float
+    t_detach: float | None = None
+    theta1_detach_deg: float | None = None
+    swing_duration: float | None = None
+    alpha_detach_deg: float | None = None
+    theta2_min_deg: float | None = None
+    theta2_max_deg: float | None = None
+
+
+@dataclass
+class SimResult:
+    traversals: int
+    frames: int
+    outcome: str
+    reason: str
+    swings: list[Swing]
+    energy: dict
+    sim_time: float
+    wall_time: float
+    miss_distance: float | None = None  # m: closest the hook came to the next handrail's seat in the failed transfer
+    health: dict = field(default_factory=dict)  # largest joint drift (m), limit overshoot (deg), penetration (m)
+    fidelity: str = "mbd"  # the sim.fidelity preset the run was made at
+    trace: dict | None = field(default=None, repr=False)
+    poses: list | None = field(default=None, repr=False)
+    geometry: dict | None = field(default=None, repr=False)
+
+    def to_json_dict(self) -> dict:
+        """The fields of ``aero-env simulate --json`` (no trace or poses)."""
+        return dict(traversals=self.traversals, frames=self.frames, outcome=self.outcome, reason=self.reason,
+                    swings=[asdict(s) for s in self.swings], energy=dict(self.energy),
+                    sim_time=self.sim_time, wall_time=self.wall_time, miss_distance=self.miss_distance,
+                    health=dict(self.health), fidelity=self.fidelity)
+
+
+# ---- the sentences (``SimResult.reason``) ----
+def completed(last: int) -> str:
+    return f"caught by the last frame ({last})"
+
+
+def held_at_stop(frame: int, stop_hold: float, stop_deg: float, note: str = FRICTION_HELD) -> str:
+    return f"hook still on frame {frame} {stop_hold} s after it reached its stop ({stop_deg:.0f} deg){note}"
+
+
+def turned_back_near_stop(frame: int, peak_deg: float, note: str = FRICTION_HELD) -> str:
+    return f"frame {frame} reached {peak_deg:.1f} deg, near its stop, and turned back under the robot{note}"
+
+
+def turned_back(frame: int, peak_deg: float) -> str:
+    return (f"frame {frame} turned back at {peak_deg:.1f} deg, short of its stop, with the robot hooked: too little "
+            f"moment imbalance")
+
+
+def never_left_rest(frame: int, rest_timeout: float) -> str:
+    return (f"frame {frame} never left its rest angle in {rest_timeout} s with the robot hooked: the counterbalance "
+            f"outweighs the robot")
+
+
+def swing_too_long(frame: int, swing_timeout: float) -> str:
+    return f"swing on frame {frame} lasted over {swing_timeout} s"
+
+
+def reached_t_max(t_max: float) -> str:
+    return f"reached sim.t_max = {t_max} s"
+
+
+def _after(origin: int) -> str:
+    return f"after leaving frame {origin}"
+
+
+def spring_too_stiff(origin: int, alpha_deg: float) -> str:
+    return (f"{_after(origin)}: the arm was at {alpha_deg:.0f} deg when the hook let go, with no swing left to reach "
+            f"frame {origin + 1} (spring too stiff to bend)")
+
+
+def released_low(origin: int, height: float) -> str:
+    level = f"only {height * 1e3:.1f} mm above" if height >= 0 else f"{-height * 1e3:.1f} mm below"
+    return (f"{_after(origin)}: the hook slipped off {level} frame {origin + 1}'s handrail, before the frame had "
+            f"lifted the robot high enough")
+
+
+def never_came_down(origin: int) -> str:
+    return f"{_after(origin)}: the hook never came down to frame {origin + 1}'s handrail"
+
+
+def spring_too_weak(origin: int, swung_deg: float) -> str:
+    return (f"{_after(origin)}: the arm had swung only {swung_deg:.0f} deg forward when the hook came down to frame "
+            f"{origin + 1}'s handrail (spring too weak)")
+
+
+def passed_behind(origin: int, distance: float) -> str:
+    return f"{_after(origin)}: the hook passed {distance * 1e3:.1f} mm behind frame {origin + 1}'s handrail"
+
+
+def passed_ahead(origin: int, distance: float) -> str:
+    return (f"{_after(origin)}: the hook passed {distance * 1e3:.1f} mm ahead of frame {origin + 1}'s handrail or "
+            f"bounced off")
