@@ -153,6 +153,8 @@ def build_parser() -> argparse.ArgumentParser:
     from .bench.commands import register as register_bench
 
     register_bench(sub, _scene_command)
+    from .calibration.command import register as register_calibrate; register_calibrate(sub, _scene_command)  # noqa: E702
+    from .robustness.command import register as register_robustness; register_robustness(sub, _scene_command)  # noqa: E702
     for entry in sorted(entry_points(group="aero_env.commands"), key=lambda e: e.name):
         entry.load()(sub, _scene_command)
     return ap

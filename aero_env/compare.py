@@ -64,7 +64,9 @@ def mbd_first_swing(cfg: Config, drag: bool = False) -> tuple[SwingResult, float
 def analytical(cfg: Config, theta2_0: float, angle: float, drag: bool = False) -> tuple[SwingResult, SwingResult]:
     d = cfg.design
     th0 = math.radians(d.rest_angle_deg)
-    tl = two_link.simulate(d, th0, theta2_0, t_end=3.0, until_theta1=angle, drag=drag)
+    # the two-link model of the robot the world builds (its parts, held at alpha_max), so the comparison is
+    # of models, not of robots; two_link's robot="paper" is the article's own A14 convention
+    tl = two_link.simulate(d, th0, theta2_0, t_end=3.0, until_theta1=angle, drag=drag, robot="parts")
     qs = quasi_static.simulate(d, th0, t_end=3.0, until_theta1=angle, drag=drag)
     return qs, tl
 

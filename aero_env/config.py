@@ -61,7 +61,8 @@ class Design:
     Ld: float = spec(0.06, "m", "two-link model: joint (hook) to bottom of torso; sets I2 with Lc", 0.0, 2.0, lo_open=True)
     h: float = spec(0.005, "m", "counterbalance offset normal to the frame", -0.5, 0.5)
     m1: float = spec(0.004, "kg", "swing frame mass (I1 = 2*m1/3*(La^2+Lb^2-La*Lb))", 0.0, 10.0, lo_open=True)
-    m2: float = spec(0.00771, "kg", "robot mass, torso + coins + arm", 0.0, 10.0, lo_open=True)
+    m2: float = spec(0.00771, "kg", "robot mass as Table 1 counts it: torso card + coins + arm + the handrail "
+                     "(handrail_mass, which the world puts on the frame)", 0.0, 10.0, lo_open=True)
     m3: float = spec(0.0072, "kg", "counterbalance mass (point mass at (La, h))", 0.0, 10.0, lo_open=True)
     dT: float = spec(0.0, "N·m", "frame's own moment at theta1 = 0 without robot and counterbalance", -1.0, 1.0)
     spring_k: float = spec(8.77e-4, "N·m/rad", "leaf-spring stiffness (torque = k·(alpha - alpha_min))", 0.0, 10.0, lo_open=True)
@@ -69,15 +70,25 @@ class Design:
     mu_k: float = spec(0.409, "-", "kinetic friction, arm tip on handrail (<= mu_s)", 0.0, 10.0)
     arm_length: float = spec(0.03, "m", "arm: torso axle to hook tip", 0.0, 1.0, lo_open=True)
     arm_mass: float = spec(0.0015, "kg", "arm mass (part of m2), a uniform rod", 0.0, 10.0, lo_open=True)
-    torso_com: float = spec(0.03, "m", "torso axle to torso centre of mass (coins included)", 0.0, 1.0, lo_open=True)
+    torso_length: float = spec(0.0874, "m", "torso card strip, from the axle down (fitted: docs/physics.md)", 0.0, 1.0, lo_open=True)
+    coin_mass: float = spec(0.004, "kg", "coins on the torso (part of m2; four 1-yen coins of 1 g)", 0.0, 10.0)
+    coin_radius: float = spec(0.01, "m", "coin radius (a 1-yen coin is 20 mm across)", 0.0, 0.1)
+    coin_offset: float = spec(0.0869, "m", "axle to the coins' centre, along the torso (fitted: docs/physics.md)", 0.0, 1.0)
+    handrail_mass: float = spec(0.00021, "kg", "the handrail's card, counted in m2 by Table 1 and carried by the "
+                                "frame at the seat (docs/physics.md: 0.21 g, not the 2.1 g the text prints)",
+                                0.0, 1.0)
+    pivot_friction: float = spec(1.0e-4, "N·m", "Coulomb friction torque of each frame's bamboo skewer in its card "
+                                 "shaft hole (0: no part built)", 0.0, 0.1)
+    axle_friction: float = spec(8.0e-6, "N·m", "Coulomb friction torque at the arm's axle in the torso (0: no part "
+                                "built)", 0.0, 0.1)
     alpha_min_deg: float = spec(60.0, "deg", "arm angle with the spring straight (arm snapped forward)", 0.0, 180.0)
     alpha_max_deg: float = spec(120.0, "deg", "arm angle with the spring fully bent", 0.0, 180.0)
     rest_angle_deg: float = spec(55.0, "deg", "frame angle theta1 at rest, counterbalance against the stopper", -90.0, 270.0)
     stop_angle_deg: float = spec(180.0, "deg", "frame angle theta1 at the end stop", -90.0, 270.0)
-    notch_angle_deg: float = spec(75.0, "deg", "handrail notch bisector direction (world) at the rest angle", -180.0, 180.0)
+    notch_angle_deg: float = spec(65.72, "deg", "handrail notch bisector direction (world) at the rest angle", -180.0, 180.0)
     notch_opening_deg: float = spec(90.0, "deg", "angle between the handrail notch's two faces", 30.0, 150.0)
-    notch_back_face: float = spec(0.01, "m", "handrail notch face that rises toward the back (at rest)", 0.0, 0.1, lo_open=True)
-    notch_front_face: float = spec(0.01, "m", "handrail notch face that rises toward the front (at rest)", 0.0, 0.1, lo_open=True)
+    notch_back_face: float = spec(0.00426, "m", "handrail notch face that rises toward the back (at rest)", 0.0, 0.1, lo_open=True)
+    notch_front_face: float = spec(0.00584, "m", "handrail notch face that rises toward the front (at rest)", 0.0, 0.1, lo_open=True)
     handrail_thickness: float = spec(0.001, "m", "card thickness of the handrail faces", 0.0, 0.01, lo_open=True)
     hook_radius: float = spec(0.001, "m", "radius of the arm tip's contact edge", 0.0, 0.01, lo_open=True)
     Cd: float = spec(1.05, "-", "drag coefficient (drag effect)", 0.0, 10.0)
@@ -148,6 +159,10 @@ class Sim:
     collision_slop: float = spec(2e-5, "m", "allowed contact overlap (pymunk slop)", 0.0, 0.001)
     slip_speed: float = spec(0.001, "m/s", "tangential speed above which the hook slides (mu_k)", 0.0, 1.0, lo_open=True)
     contact_hold: float = spec(0.01, "s", "contact must be lost (or kept) this long for a detach (or catch)", 0.0, 1.0, lo_open=True)
+    catch_seat: float = spec(0.003, "m", "a touch of the next handrail held for contact_hold is a catch only if the "
+                             "hook's centre came this close to the seat (the notch's corner) meanwhile; a seated hook "
+                             "sits there up to its penetration (< 1 mm); farther touches are grazes", 0.0, 0.1,
+                             lo_open=True)
     flight_timeout: float = spec(0.5, "s", "longest flight between detach and catch", 0.0, 10.0, lo_open=True)
     swing_timeout: float = spec(3.0, "s", "longest swing on one frame before it counts as stalled", 0.0, 60.0, lo_open=True)
     rest_timeout: float = spec(1.0, "s", "a frame that has not left its rest angle this long after the catch never "
@@ -399,9 +414,13 @@ def _check_design(d: Design) -> None:
         lim = d.m1 * GRAVITY * x_max
         raise ConfigError(f"design.dT = {d.dT!r}: the frame's own moment would put its centre of mass beyond its "
                           f"ends, allowed [{-lim:.3g}, {lim:.3g}] N·m (m1·g·max(La, Lb))")
-    if d.arm_mass >= d.m2:
-        raise ConfigError(f"design.arm_mass = {d.arm_mass!r}: the arm is part of the robot, allowed (0, {d.m2}) kg "
-                          f"(below design.m2)")
+    if d.coin_offset > d.torso_length:
+        raise ConfigError(f"design.coin_offset = {d.coin_offset!r}: the coins sit on the torso card, allowed "
+                          f"[0, {d.torso_length}] m (design.torso_length)")
+    parts = d.arm_mass + d.coin_mass + d.handrail_mass
+    if parts >= d.m2:
+        raise ConfigError(f"design.m2 = {d.m2!r}: must exceed its listed parts arm_mass + coin_mass + handrail_mass "
+                          f"= {parts:.6g} kg (the torso card is the rest), allowed ({parts:.6g}, 10] kg")
 
 
 def from_dict(data: Mapping[str, Any] | None, overrides: Mapping[str, Any] | None = None) -> Config:

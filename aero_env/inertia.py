@@ -30,3 +30,51 @@ def robot_inertia(d: Design) -> float:
 def counterbalance_inertia(d: Design) -> float:
     """I3 = m3·(La² + h²), the counterbalance about the frame axis (kg·m²)."""
     return d.m3 * (d.La**2 + d.h**2)
+
+
+# ---- the robot as built from its parts (what the pymunk world swings) ----
+class RobotParts:
+    """The robot as a hand-made toy is built, in SI: a card torso strip hanging from the axle with
+    the coins on it, and the arm, a uniform rod from the axle to the hook. The handrail's card,
+    which Table 1 counts in m2, belongs to the frame and is not part of the robot.
+
+    Every attribute is a plain float (or a numpy array when the design's fields are arrays, so the
+    reduced model can build a batch of robots with the same arithmetic).
+    """
+
+    def __init__(self, d):
+        self.m_arm = d.arm_mass
+        self.m_coins = d.coin_mass
+        self.m_card = d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass  # the torso card: the rest of m2
+        self.m_torso = self.m_card + self.m_coins
+        self.mass = self.m_torso + self.m_arm
+        self.arm_length = d.arm_length
+        # torso: card strip from the axle to torso_length, coins (discs) centred coin_offset down it
+        self.torso_com = (self.m_card * 0.5 * d.torso_length + self.m_coins * d.coin_offset) / self.m_torso
+        self.I_torso = (self.m_card * (d.torso_length**2 / 12.0 + (0.5 * d.torso_length - self.torso_com) ** 2)
+                        + self.m_coins * (0.5 * d.coin_radius**2 + (d.coin_offset - self.torso_com) ** 2))
+        self.I_arm = self.m_arm * d.arm_length**2 / 12.0  # about the arm's own centre
+
+    def layout(self, alpha):
+        """Torso-frame positions (axle at the origin, torso along -y) of the hook, the arm's centre,
+        the torso's centre and the robot's centre of mass at arm angle ``alpha`` (rad): the interior
+        angle at the axle between torso and arm (alpha_min: spring straight)."""
+        import numpy as np
+
+        hook = (self.arm_length * np.sin(alpha), -self.arm_length * np.cos(alpha))
+        arm_c = (0.5 * hook[0], 0.5 * hook[1])
+        torso_c = (0.0 * hook[0], -self.torso_com + 0.0 * hook[1])
+        com = ((self.m_arm * arm_c[0] + self.m_torso * torso_c[0]) / self.mass,
+               (self.m_arm * arm_c[1] + self.m_torso * torso_c[1]) / self.mass)
+        return hook, arm_c, torso_c, com
+
+    def rigid(self, alpha):
+        """(hook-to-centre distance, inertia about the centre of mass) of the robot held rigid at
+        ``alpha``: the two-link model's link, built from the parts."""
+        import numpy as np
+
+        hook, arm_c, torso_c, com = self.layout(alpha)
+        I = (self.I_arm + self.I_torso
+             + self.m_arm * ((arm_c[0] - com[0]) ** 2 + (arm_c[1] - com[1]) ** 2)
+             + self.m_torso * ((torso_c[0] - com[0]) ** 2 + (torso_c[1] - com[1]) ** 2))
+        return np.hypot(hook[0] - com[0], hook[1] - com[1]), I

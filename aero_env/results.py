@@ -33,6 +33,7 @@ class Swing:
     alpha_detach_deg: float | None = None
     theta2_min_deg: float | None = None
     theta2_max_deg: float | None = None
+    catch_seat_mm: float | None = None  # the hook centre's closest approach to the seat while the catch held
 
 
 @dataclass
@@ -69,8 +70,9 @@ def held_at_stop(frame: int, stop_hold: float, stop_deg: float, note: str = FRIC
     return f"hook still on frame {frame} {stop_hold} s after it reached its stop ({stop_deg:.0f} deg){note}"
 
 
-def turned_back_near_stop(frame: int, peak_deg: float, note: str = FRICTION_HELD) -> str:
-    return f"frame {frame} reached {peak_deg:.1f} deg, near its stop, and turned back under the robot{note}"
+def turned_back_holding(frame: int, peak_deg: float, past_deg: float, note: str = FRICTION_HELD) -> str:
+    return (f"frame {frame} reached {peak_deg:.1f} deg, past {past_deg:.1f} deg where the weights stop driving it, "
+            f"and turned back under the robot{note}")
 
 
 def turned_back(frame: int, peak_deg: float) -> str:
@@ -104,6 +106,11 @@ def released_low(origin: int, height: float) -> str:
     level = f"only {height * 1e3:.1f} mm above" if height >= 0 else f"{-height * 1e3:.1f} mm below"
     return (f"{_after(origin)}: the hook slipped off {level} frame {origin + 1}'s handrail, before the frame had "
             f"lifted the robot high enough")
+
+
+def grazed(origin: int, distance: float) -> str:
+    return (f"{_after(origin)}: the hook touched frame {origin + 1}'s handrail but never seated in its corner "
+            f"(closest {distance * 1e3:.1f} mm from the seat): a graze")
 
 
 def never_came_down(origin: int) -> str:

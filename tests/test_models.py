@@ -7,6 +7,7 @@ import pytest
 
 from aero_env.models import quasi_static, two_link
 from aero_env.physics import simulate
+from aero_env.units import GRAVITY
 
 R = math.radians
 
@@ -83,19 +84,135 @@ def test_batch_fast_path_matches_the_integrator(paper_cfg):
     batch = two_link.time_to_angle_batch(designs, R(55), R(81), R(150))
     for d, tb in zip(designs, batch):
         assert tb == pytest.approx(two_link.simulate(d, R(55), R(81), until_theta1=R(150)).t_until, abs=1e-5)
-    stuck = paper_cfg.replace({"design.m2": 0.0055}).design  # robot lighter than the counterbalance's moment
+    # a counterbalance (the tunable's heaviest) whose moment outweighs the robot's: the frame turns back
+    stuck = paper_cfg.replace({"design.m3": 0.012}).design
     assert np.isnan(two_link.time_to_angle_batch([stuck], R(55), R(81), R(150), t_end=1.0)[0])
 
 
 def test_pymunk_pinned_hook_scene_agrees_with_two_link(paper_cfg):
     # The article's Appendix B: with the hook a pin and no spring the MBD reduces to the two-link model.
-    cfg = paper_cfg.replace({"scene.effects.hook": "pin", "sim.trace_every": 1, "scene.frames": 2})
+    # The pinned robot is the parts held rigid at alpha_max (robot="parts"), and the frame carries
+    # its own moment dT (its centre of mass moved, I1 kept about the axis).
+    cfg = paper_cfg.replace({"scene.effects.hook": "pin", "sim.trace_every": 1, "scene.frames": 2,
+                             "design.dT": 3e-4, "design.pivot_friction": 0.0, "design.axle_friction": 0.0})
     r = simulate(cfg, trace=True)
     assert r.outcome == "no_detach" and "pinned" in r.reason
     t, th1, th2 = r.trace["t"], r.trace["theta1"], r.trace["theta2"]
     i = int(np.argmax(th1 >= R(165)))
     t165 = t[i - 1] + (R(165) - th1[i - 1]) / (th1[i] - th1[i - 1]) * (t[i] - t[i - 1])
-    ref = two_link.simulate(cfg.design, R(55), R(81), until_theta1=R(165))
+    ref = two_link.simulate(cfg.design, R(55), R(81), until_theta1=R(165), robot="parts")
     assert t165 == pytest.approx(ref.t_until, rel=0.01)  # measured: 0.07% at dt = 0.5 ms
     rms = np.sqrt(np.mean((th2[:i] - np.interp(t[:i], ref.t, ref.theta2)) ** 2))
     assert math.degrees(rms) < 1.0  # measured: 0.011 deg
+
+
+# ---- dT (the frame's own moment) and the robot conventions ----
+DT = 3e-4  # N·m: a frame moment of the size the issue measured (~5 % on the swing time)
+STATES = [  # (theta1, theta2, theta1', theta2'), rad and rad/s: rest, mid-swing, late swing
+    (R(55), R(81), 0.0, 0.0),
+    (R(100), R(120), 3.0, -2.0),
+    (R(160), R(150), 1.5, 4.0),
+]
+
+
+def _eta_by_hand(d, th1, th2, w1, w2):
+    """theta1'', theta2'' solved from the brief's eta equations (A25, A30) with dT in eta3, written
+    out from the design's fields: consistent I1, A14's I2, no drag."""
+    g = GRAVITY
+    I1 = 2 * d.m1 / 3 * (d.La**2 + d.Lb**2 - d.La * d.Lb)
+    I2 = d.m2 / 3 * (d.Ld**2 + d.Ld * d.Lc + d.Lc**2)
+    eta1 = d.m2 * d.Lb**2 + d.m3 * (d.La**2 + d.h**2) + I1
+    eta2 = d.m2 * d.Lb * d.Lc * math.cos(th1 - th2)
+    eta3 = (d.m2 * d.Lb * d.Lc * w2**2 * math.sin(th1 - th2) - d.m2 * g * d.Lb * math.cos(th1)
+            - d.dT * math.cos(th1) + d.m3 * g * d.La * math.cos(th1) - d.m3 * g * d.h * math.sin(th1))
+    eta5 = d.m2 * d.Lc**2 + I2
+    eta6 = -d.m2 * d.Lb * d.Lc * w1**2 * math.sin(th1 - th2) - d.m2 * g * d.Lc * math.cos(th2)
+    return np.linalg.solve([[eta1, eta2], [eta2, eta5]], [-eta3, -eta6])
+
+
+def test_two_link_with_dT_solves_the_briefs_equations(paper_cfg):
+    d = paper_cfg.replace({"design.dT": DT}).design
+    c = two_link.coefficients(d)
+    for state in STATES:
+        assert two_link.accelerations(c, *state) == pytest.approx(_eta_by_hand(d, *state), rel=1e-12)
+
+
+def test_two_link_with_dT_conserves_energy(paper_cfg):
+    d = paper_cfg.replace({"design.dT": DT}).design
+    c = two_link.coefficients(d)
+    res = two_link.simulate(d, R(55), R(81), until_theta1=R(165))
+    e = two_link.energy(c, res.theta1, res.theta2, res.omega1, res.omega2)
+    kinetic = e - two_link.energy(c, res.theta1, res.theta2, 0.0, 0.0)
+    # relative to the energy the swing exchanges (its largest kinetic energy), not to the arbitrary zero
+    assert np.ptp(e) / kinetic.max() < 1e-9
+
+
+def test_two_link_without_robot_swing_is_equation_1_with_dT(paper_cfg):
+    d = paper_cfg.replace({"design.Lc": 0.0, "design.dT": DT}).design
+    c = two_link.coefficients(d)
+    for th1, th2, w1, w2 in STATES:  # with Lc = 0 the theta1 equation is Eq. (1) with I = eta1, whatever theta2 does
+        a1, _ = two_link.accelerations(c, th1, th2, w1, w2)
+        assert a1 == pytest.approx(quasi_static.angular_acceleration(d, th1, I=c.eta1), rel=1e-12)
+    tl = two_link.simulate(d, R(55), R(81), t_end=0.8)
+    qs = quasi_static.simulate(d, R(55), t_end=0.8, I=c.eta1)
+    assert np.max(np.abs(tl.theta1 - qs.theta1)) < 1e-8
+
+
+def _parts_inertia_about_hook(d):
+    """The robot's parts' inertia about the hook, arm fully bent (alpha_max), summed part by part.
+
+    The axle is arm_length from the hook; the torso runs from the axle at the interior angle alpha to
+    the arm, so a point s down the torso lies at arm_length² + s² - 2·arm_length·s·cos(alpha) (squared)
+    from the hook (law of cosines)."""
+    L, a = d.arm_length, R(d.alpha_max_deg)
+    T = d.torso_length
+    m_card = d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass  # the handrail rides on the frame
+
+    def dist2(s):
+        return L**2 + s**2 - 2 * L * s * math.cos(a)
+
+    arm = d.arm_mass * L**2 / 3  # uniform rod about its end
+    card = m_card * (L**2 + T**2 / 3 - L * T * math.cos(a))  # dist2 averaged over s in [0, T]
+    coins = d.coin_mass * (d.coin_radius**2 / 2 + dist2(d.coin_offset))  # discs, parallel axis
+    return arm + card + coins
+
+
+def robot_about_hook_paper(d):
+    """A14: a uniform line from Lc to Ld measured from the hook, m2/3·(Ld² + Ld·Lc + Lc²)."""
+    return d.m2 / 3 * (d.Ld**2 + d.Ld * d.Lc + d.Lc**2)
+
+
+def test_parts_convention_builds_the_robot_from_its_parts(paper_cfg):
+    d = paper_cfg.design
+    paper, parts = two_link.coefficients(d, robot="paper"), two_link.coefficients(d, robot="parts")
+    assert parts.eta5 == pytest.approx(_parts_inertia_about_hook(d), rel=1e-12)
+    assert paper.eta5 == pytest.approx(d.m2 * d.Lc**2 + d.m2 / 3 * (d.Ld**2 + d.Ld * d.Lc + d.Lc**2), rel=1e-12)
+    # A14's I2 is already about the hook, so the paper's eta5 counts the distance twice (its own m2·Lc² on top)
+    assert paper.eta5 == pytest.approx(d.m2 * d.Lc**2 + robot_about_hook_paper(d), rel=1e-12)
+    assert abs(paper.eta5 - parts.eta5) > 0.1 * parts.eta5  # two different robots
+    # the handrail moves from the robot to the frame's seat: the same mass at Lb, so eta1 and the drive agree
+    assert parts.eta1 == pytest.approx(paper.eta1, rel=1e-12) and parts.drive == pytest.approx(paper.drive, rel=1e-12)
+    t_paper = two_link.simulate(d, R(55), R(81), until_theta1=R(165)).t_until
+    t_parts = two_link.simulate(d, R(55), R(81), until_theta1=R(165), robot="parts").t_until
+    assert abs(t_parts - t_paper) > 1e-3  # measured: 0.641 s (paper), 0.650 s (parts)
+    with pytest.raises(ValueError):
+        two_link.coefficients(d, robot="toy")
+
+
+def test_parts_convention_puts_the_handrail_on_the_frame(paper_cfg):
+    heavier_handrail = 0.0005  # kg, more than twice the prototype's 0.21 g
+    light, heavy = paper_cfg.design, paper_cfg.replace({"design.handrail_mass": heavier_handrail}).design
+    a, b = two_link.coefficients(light, robot="parts"), two_link.coefficients(heavy, robot="parts")
+    moved = heavy.handrail_mass - light.handrail_mass  # taken from the torso card, put on the seat
+    assert b.eta1 == pytest.approx(a.eta1, rel=1e-12)  # still at Lb, on the frame instead of the robot
+    assert b.m2gLc < a.m2gLc  # the robot that swings is lighter
+    assert (a.m2gLc / a.Lc - b.m2gLc / b.Lc) / GRAVITY == pytest.approx(moved, rel=1e-9)
+
+
+def test_dT_speeds_the_swing_by_a_few_percent(paper_cfg):
+    plain, driven = paper_cfg.design, paper_cfg.replace({"design.dT": DT}).design
+    t0 = two_link.simulate(plain, R(55), R(81), until_theta1=R(150)).t_until
+    t1 = two_link.simulate(driven, R(55), R(81), until_theta1=R(150)).t_until
+    assert t1 < t0 and (t0 - t1) / t0 > 0.01  # measured: 0.570 -> 0.540 s, 5.2 %
+    batch = two_link.time_to_angle_batch([plain, driven], R(55), R(81), R(150))
+    assert batch == pytest.approx([t0, t1], abs=1e-5)  # the fast path carries dT too

@@ -31,12 +31,15 @@ def history(result):
     return [(n, v) for n, v in result.history]
 
 
-def test_steep_scene_defeats_the_prototype_and_tuning_beats_it(tmp_path):
-    cfg = load_config(STEEP)
+def test_a_defeated_design_is_beaten_by_tuning(tmp_path):
+    # The prototype with too little moment imbalance (the brief's failure) stalls on frame 0; CMA-ES over
+    # the design box finds traversals. (configs/steep.yaml defeats 60 CMA-ES trials since the calibrated
+    # physics: the issue 14 note.)
+    cfg = load_config(PAPER, {"design.m3": 0.0079, "design.h": -0.01})
     ev = DesignEvaluator(cfg, (0,))
     proto = ev.score(ev.env.action_for())
-    assert proto.traversals == (0,) and proto.outcomes[0] in ("fell_short", "missed_catch", "stalled")
-    result = tune(cfg, TuneSettings(sampler="cmaes", trials=24, seed=0, **QUIET), "steep")
+    assert proto.traversals == (0,) and proto.outcomes[0] == "stalled"
+    result = tune(cfg, TuneSettings(sampler="cmaes", trials=24, seed=0, **QUIET), "defeated")
     assert result.trials == 24 and result.trials_run == 24
     assert result.best_reward > proto.mean_reward
     # the best design, written as YAML, loads and simulates to the score the study recorded

@@ -2,8 +2,11 @@
 
     I·theta1'' = (m2·g·Lb + dT)·cos theta1 - m3·g·La·cos theta1 + m3·g·h·sin theta1,   I = I1 + I2 + I3
 
-The robot is a point mass at the handrail that does not swing; only the frame moves. With
-Table 1 the right side is positive up to theta1 ~ 125 deg and negative beyond.
+The robot is a point mass at the handrail that does not swing; only the frame moves. dT
+(``design.dT``) is the frame's own moment at theta1 = 0, a torque dT·cos theta1 about the axis beside
+the robot's m2·g·Lb·cos theta1 (the two-link model carries it the same way). m2 and I2 are the
+paper's (Table 1, A14), as in the two-link ``robot="paper"`` convention. With Table 1 the right side
+is positive up to theta1 ~ 125 deg and negative beyond.
 """
 
 from __future__ import annotations

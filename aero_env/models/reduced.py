@@ -108,6 +108,7 @@ import numpy as np
 from .. import results as say
 from .. import units
 from ..config import Config, ConfigError, real_field
+from ..inertia import RobotParts
 from ..results import NEAR_STOP_DEG, REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, SimResult, Swing
 
 # ---- numerical choices ----
@@ -124,6 +125,16 @@ STALL_WINDOW = 0.6  # s: a swing whose frame cannot climb TURN_BACK_DEG above re
 # period of the robot hanging from a still frame (0.6 s for the prototype): a hook that pops out does so earlier.
 PIVOT_SLIP_RATE = 0.05  # rad/s: the hook tip's friction torque grows linearly up to this rate of the arm relative
 # to the frame, then stays at mu·r·N (a smooth Coulomb law: near-stiction, and stiff enough only to need rate·dt < 1)
+DRY_FRICTION_RATE = 0.05  # rad/s: the skewer's (pivot_friction) and the axle's (axle_friction) Coulomb torques are
+# regularised: -T·clip(w / rate, -1, 1), linear below this relative rate, T above it. A sign(w) in fixed-step RK4
+# chatters about w = 0 (each stage flips the torque); a stick/slip switch would be one more per-design constraint
+# row in every phase (the frame's and the arm's stops already are) for a speed the swing crosses in one or two steps.
+# 0.05 rad/s is ~1% of the swing's rates (3 rad/s frame, tens of rad/s arm snap), so the torque is the full Coulomb
+# torque wherever it matters; a frame whose other torques stay below T creeps at rate·(torque / T) <= 0.05 rad/s
+# instead of standing still (pymunk's capped motor holds it to the solver's slop).
+DRY_FRICTION_STEP = 1.0  # the regularised torque's stiffness times the step, T·dt/(I·rate), is kept at most this
+# (RK4 is stable to 2.8): a design whose T·dt/(I·DRY_FRICTION_RATE) exceeds it gets a larger rate (I: the smallest
+# inertia the coordinate can have, the frame alone for the skewer, the free robot's alpha for the axle)
 MOUTH_END_REACH = 1.0  # the catch window reaches this many hook/card clearances past each face's end
 ENERGY_BARRIER_MARGIN = 0.02  # of the swing's energy scale: the barrier test's safety margin (grid minima)
 
@@ -133,23 +144,33 @@ _C, _ND, _ST, _FS, _MC = range(5)
 _HOOKED, _FLIGHT, _DONE = 0, 1, 2
 # reasons (how the outcome's sentence is written)
 (_R_COMPLETED, _R_STOP_HOLD, _R_TURN_NEAR_STOP, _R_TURN_BACK, _R_TIMEOUT, _R_BARRIER, _R_STIFF, _R_LOW,
- _R_NEVER_DOWN, _R_WEAK, _R_BEHIND, _R_AHEAD, _R_AT_REST, _R_BARRIER_REST, _R_T_MAX) = range(15)
+ _R_NEVER_DOWN, _R_WEAK, _R_BEHIND, _R_AHEAD, _R_AT_REST, _R_BARRIER_REST, _R_T_MAX, _R_GRAZE) = range(16)
 _REASON_OUTCOME = {_R_COMPLETED: _C, _R_STOP_HOLD: _ND, _R_TURN_NEAR_STOP: _ND, _R_TURN_BACK: _ST, _R_TIMEOUT: _ST,
                    _R_BARRIER: _ST, _R_STIFF: _MC, _R_LOW: _FS, _R_NEVER_DOWN: _MC, _R_WEAK: _MC, _R_BEHIND: _FS,
                    _R_AHEAD: _MC, _R_AT_REST: _ST, _R_BARRIER_REST: _ST,
-                   _R_T_MAX: _ST}  # the runner's "timeout" (sim.t_max: no phase outlasts its own limit) reads stalled
+                   _R_T_MAX: _ST, _R_GRAZE: _MC}  # the runner's "timeout" (sim.t_max: no phase outlasts its own limit) reads stalled
 
 
 # ============================================================================ parameters
 
 # The config fields the model reads, by dotted key (everything else is ignored).
 _DESIGN_KEYS = ("La", "Lb", "Lc", "Ld", "h", "m1", "m2", "m3", "dT", "spring_k", "mu_s", "mu_k", "arm_length",
-                "arm_mass", "torso_com", "alpha_min_deg", "alpha_max_deg", "rest_angle_deg", "stop_angle_deg",
+                "arm_mass", "torso_length", "coin_mass", "coin_radius", "coin_offset", "handrail_mass",
+                "pivot_friction", "axle_friction", "alpha_min_deg", "alpha_max_deg", "rest_angle_deg", "stop_angle_deg",
                 "notch_angle_deg", "notch_opening_deg", "notch_back_face", "notch_front_face",
                 "handrail_thickness", "hook_radius")
 _SCENE_KEYS = ("pitch", "rise", "theta2_start_deg", "floor_drop")
 _SIM_KEYS = ("contact_hold", "flight_timeout", "swing_timeout", "rest_timeout", "stop_hold", "t_max",
-             "min_release_height")
+             "min_release_height", "slip_speed", "catch_seat")
+
+
+class _DesignArrays:
+    """The ``design.*`` arrays of a raw batch as attributes, for :class:`aero_env.inertia.RobotParts`."""
+
+    def __init__(self, raw):
+        for k, v in raw.items():
+            if k.startswith("design."):
+                setattr(self, k[7:], v)
 
 
 class _Arrays:
@@ -228,29 +249,22 @@ def _params(raw: Mapping[str, np.ndarray]) -> _Arrays:
     rad = np.radians
     La, Lb, h, m1, m2, m3 = d("La"), d("Lb"), d("h"), d("m1"), d("m2"), d("m3")
     dT = d("dT")
-    # frame: own inertia (consistent I1), own centre of mass from dT (as engine_params), counterbalance point
+    mh = d("handrail_mass")
+    # frame: own inertia (consistent I1), own centre of mass from dT (as engine_params), counterbalance point,
+    # and the handrail's card, a point mass at the seat (-Lb, 0) (swing_frame.SwingFrame)
     x_f = -dT / (m1 * g)
     I1 = 2.0 * m1 / 3.0 * (La**2 + Lb**2 - La * Lb)
-    P.If = I1 + m1 * x_f**2 + m3 * (La**2 + h**2)
+    P.If = I1 + m1 * x_f**2 + m3 * (La**2 + h**2) + mh * Lb**2
     P.m3gLa, P.m3gh, P.dT = m3 * g * La, m3 * g * h, dT
-    P.cfr = dT - P.m3gLa  # the frame's own and counterbalance's moment: cfr·cos(theta1) + m3gh·sin(theta1)
-    P.frame_m = m1 + m3
-    # robot from its parts (engine_params.to_engine)
-    ma = d("arm_mass")
-    mt = m2 - ma
-    L, dc = d("arm_length"), d("torso_com")
+    # the frame's own, the counterbalance's and the handrail card's moment: cfr·cos(theta1) + m3gh·sin(theta1)
+    P.cfr = dT - P.m3gLa + mh * g * Lb
+    P.frame_m = m1 + m3 + mh
+    # robot from its parts (aero_env.inertia.RobotParts, as the pymunk robot is built); the handrail is the frame's
+    parts = RobotParts(_DesignArrays(raw))
+    ma, mt, m2 = parts.m_arm, parts.m_torso, parts.mass
+    L, dc = parts.arm_length, parts.torso_com
     amin, amax = rad(d("alpha_min_deg")), rad(d("alpha_max_deg"))
-    I2 = m2 / 3.0 * (d("Ld") ** 2 + d("Ld") * d("Lc") + d("Lc") ** 2)  # the paper's A14
-    Ia = ma * L**2 / 12.0
-    hook, arm_c, torso_c, com = _layout(L, dc, ma, mt, amax)
-    It = (I2 - Ia - ma * ((arm_c[0] - com[0]) ** 2 + (arm_c[1] - com[1]) ** 2)
-          - mt * ((torso_c[0] - com[0]) ** 2 + (torso_c[1] - com[1]) ** 2))
-    bad = np.flatnonzero(~(It > 0.0))
-    if bad.size:
-        i = int(bad[0])
-        raise ConfigError(f"design {i}: design.Ld = {d('Ld')[i]!r}: the robot inertia I2 = m2/3*(Ld^2+Ld*Lc+Lc^2) is "
-                          f"smaller than its parts (arm_length, torso_com) allow; raise Ld or Lc, or shorten "
-                          f"arm_length/torso_com")
+    Ia, It = parts.I_arm, parts.I_torso
     P.m, P.ma, P.mt, P.L, P.dc = m2, ma, mt, L, dc
     P.mg = m2 * g
     P.Pa = ma * L / 2.0 + mt * L  # first moments about the hook of the arm direction ...
@@ -274,6 +288,11 @@ def _params(raw: Mapping[str, np.ndarray]) -> _Arrays:
     # notch (frame-local, as swing_frame.SwingFrame builds it)
     rest, stop = rad(d("rest_angle_deg")), rad(d("stop_angle_deg"))
     P.rest, P.stop = rest, stop
+    # the runner's turn-back rule (physics.phases.Run.held_past): past the angle where Eq. (1)'s moment
+    # turns negative, or near the stop, a turn-back with the hook on is friction holding it
+    g = units.GRAVITY
+    balance = np.arctan2(d("m3") * g * d("h"), d("m2") * g * Lb + d("dT") - d("m3") * g * d("La")) + 0.5 * np.pi
+    P.held_past = np.minimum(stop - np.radians(NEAR_STOP_DEG), np.maximum(balance, rest))
     P.Lb = Lb
     beta = rad(d("notch_angle_deg")) - rest  # bisector, local
     o = rad(d("notch_opening_deg"))
@@ -317,22 +336,18 @@ def _params(raw: Mapping[str, np.ndarray]) -> _Arrays:
         setattr(P, k, raw["sim." + k])
     # energy barrier (stall test): the robot hanging from a fixed hook, its lowest potential over alpha
     al = amin[None, :] + (amax - amin)[None, :] * np.linspace(0.0, 1.0, 33)[:, None]
-    hk, _, _, cm = _layout(L, dc, ma, mt, al)
+    hk, _, _, cm = parts.layout(al)
     dist = np.hypot(hk[0] - cm[0], hk[1] - cm[1])
     P.W_min = np.min(_spring_energy(P.k, P.stiff, al - amin) - m2 * g * dist, axis=0)
+    P.pf, P.af = d("pivot_friction"), d("axle_friction")
+    # the smallest inertias of theta1 (the frame alone) and of alpha (the free robot, any arm angle): _Run sets the
+    # regularisation's rates from them and the step (DRY_FRICTION_STEP)
+    P.I_pf = P.If
+    P.I_af = (P.Ka * P.Kt - P.Kat**2) / (P.Ka + P.Kt + 2.0 * np.abs(P.Kat))
+    hk, _, _, cm = parts.layout(amax)
+    P.line_amax = np.arctan2(hk[1] - cm[1], hk[0] - cm[0])  # the centre -> hook line in the torso's frame, bent
     P.e_scale = (m2 + m3) * g * (La + Lb) + _spring_energy(P.k, P.stiff, amax - amin)
     return P
-
-
-def _layout(L, dc, ma, mt, alpha):
-    """engine_params.robot_mass_layout, vectorised: torso-frame positions (axle at the origin, torso along -y)
-    of the hook, the arm's centre, the torso's centre and the robot's centre of mass."""
-    hook = (L * np.sin(alpha), -L * np.cos(alpha))
-    arm_c = (hook[0] / 2.0, hook[1] / 2.0)
-    torso_c = (0.0 * hook[0], -dc + 0.0 * hook[1])
-    m = ma + mt
-    com = ((ma * arm_c[0] + mt * torso_c[0]) / m, (ma * arm_c[1] + mt * torso_c[1]) / m)
-    return hook, arm_c, torso_c, com
 
 
 def _spring_energy(k, stiff, da):
@@ -414,6 +429,12 @@ def _solve3(M, r0, r1, r2, lk1, lkA):
     return [xf[0] - both * xf[0], xf[1] + both * (y - xf[1]), xf[2] + both * (y - xf[2])]
 
 
+def _dry(P, w1, w_alpha):
+    """The regularised dry friction (DRY_FRICTION_RATE): the skewer's torque on theta1 (opposing the frame's rate)
+    and the axle's on alpha (opposing the arm's rate relative to the torso; + on phi_a, - on phi_t)."""
+    return -np.clip(P.pf_c * w1, -P.pf, P.pf), -np.clip(P.af_c * w_alpha, -P.af, P.af)
+
+
 def _trig3(th1, pa, pt):
     """cos and sin of the frame, arm and torso angles, in one call each (at TRIG_DTYPE precision)."""
     ang = np.empty((3, len(th1)), dtype=TRIG_DTYPE)
@@ -440,11 +461,12 @@ def _stick_eval(P, X, c, th1, pa, pt, w1, wa, wt, extras=False):
     da = pa - pt - P.alim
     tau = P.k * da if lin else _spring_torque(P.k, P.stiff, da)
     tp = X.tq0 - X.piv * np.clip((wa - w1) * (1.0 / PIVOT_SLIP_RATE), -1.0, 1.0)
+    tf, ta = _dry(P, w1, wa - wt)
     hxh = w1s * (ca * Hy - sa * Hx)  # -(perp(e_a)·b_H)
     hth = w1s * (ct * Hy - st * Hx)
-    r0 = -P.mg * Hx + P.cfr * c1 + P.m3gh * s1 - (Hx * By - Hy * Bx) - tp
-    r1 = -P.Pag * ca - tau + tp + Pa * hxh - P.Pat * sat * wt2
-    r2 = -P.Ptg * ct + tau + Pt * hth + P.Pat * sat * wa2
+    r0 = -P.mg * Hx + P.cfr * c1 + P.m3gh * s1 - (Hx * By - Hy * Bx) - tp + tf
+    r1 = -P.Pag * ca - tau + tp + Pa * hxh - P.Pat * sat * wt2 + ta
+    r2 = -P.Ptg * ct + tau + Pt * hth + P.Pat * sat * wa2 - ta
     c00, c01, c02 = B * C - F * F, E * F - D * C, D * F - E * B
     c11, c12, c22 = A * C - E * E, D * E - A * F, A * B - D * D
     inv = 1.0 / (A * c00 + D * c01 + E * c02)
@@ -551,10 +573,11 @@ def _slide_eval(P, X, c, th1, s, pa, pt, w1, ws, wa, wt, extras=False):
     da = pa - pt - P.alim
     tau = P.k * da if lin else _spring_torque(P.k, P.stiff, da)
     tp = X.tq0
-    r0 = -P.mg * Hx + P.cfr * c1 + P.m3gh * s1 - (Hx * By - Hy * Bx) - tp
+    tf, ta = _dry(P, w1, wa - wt)
+    r0 = -P.mg * Hx + P.cfr * c1 + P.m3gh * s1 - (Hx * By - Hy * Bx) - tp + tf
     r1 = -P.mg * uwy - (uwx * Bx + uwy * By)
-    r2 = -P.Pag * ca - tau + tp - (Pa * (ca * bHy - sa * bHx) + P.Pat * sat * wt2)
-    r3 = -P.Ptg * ct + tau - (Pt * (ct * bHy - st * bHx) - P.Pat * sat * wa2)
+    r2 = -P.Pag * ca - tau + tp - (Pa * (ca * bHy - sa * bHx) + P.Pat * sat * wt2) + ta
+    r3 = -P.Ptg * ct + tau - (Pt * (ct * bHy - st * bHx) - P.Pat * sat * wa2) - ta
     f0 = m * (nwy * Hx - nwx * Hy)
     f2 = Pa * (nwy * ca - nwx * sa)
     f3 = Pt * (nwy * ct - nwx * st)
@@ -618,8 +641,9 @@ def _flight_accel(P, X, pa, pt, wa, wt, lin):
     tau = P.k * da if lin else _spring_torque(P.k, P.stiff, da)
     kc = P.Kat * c
     ks = P.Kat * s
-    b0 = -ks * wt * wt - tau
-    b1 = ks * wa * wa + tau
+    ta = -np.clip(P.af_c * (wa - wt), -P.af, P.af)  # the axle's dry friction (DRY_FRICTION_RATE)
+    b0 = -ks * wt * wt - tau + ta
+    b1 = ks * wa * wa + tau - ta
     inv = 1.0 / (P.Ka * P.Kt - kc * kc)
     x0 = (P.Kt * b0 - kc * b1) * inv
     x1 = (P.Ka * b1 - kc * b0) * inv
@@ -678,18 +702,17 @@ def _hooked_energy(P, X, oy):
         for j in range(4):
             kin = kin + 0.5 * M[i][j] * v[i] * v[j]
     c1, s1, ca, sa, ct, st = trig
-    pot = (P.frame_m * g * oy + P.m3gLa * s1 + P.m3gh * c1 - P.dT * s1
+    pot = (P.frame_m * g * oy - P.cfr * s1 + P.m3gh * c1
            + g * (P.m * (oy + H[1]) + P.Pa * sa + P.Pt * st)
            + _spring_energy(P.k, P.stiff, X.pa - X.pt - P.alim))
     return kin + pot
 
 
-def _placement(P, theta2, alpha):
-    """(phi_a, phi_t) of a robot whose hook -> centre-of-mass line... (runner's place_hanging): the line from the
-    centre of mass to the hook at angle theta2, arm angle alpha."""
-    hook, _, _, com = _layout(P.L, P.dc, P.ma, P.mt, alpha)
-    rot = theta2 - np.arctan2(hook[1] - com[1], hook[0] - com[0])
-    return rot + alpha + 0.5 * np.pi, rot - 0.5 * np.pi
+def _placement(P, theta2):
+    """(phi_a, phi_t) of a robot hanging fully bent (alpha_max) with the line from its centre of mass to the hook at
+    angle theta2 (the runner's place_hanging)."""
+    rot = theta2 - P.line_amax
+    return rot + P.amax + 0.5 * np.pi, rot - 0.5 * np.pi
 
 
 # ============================================================================ the run
@@ -736,16 +759,20 @@ class _Run:
     STICK_STATE = ("th1", "s", "pa", "pt", "w1", "wa", "wt", "ux", "uy", "nx", "ny", "face", "lock1", "lock1k",
                    "lockA", "lockAk", "piv", "tq0")
     STICK_PARAMS = ("If", "m", "mg", "Pa", "Pt", "Pag", "Ptg", "Ja", "Jt", "Pat", "cfr", "m3gh", "k", "stiff", "alim",
-                    "p0x", "p0y", "beta", "cone_half", "face_off", "phi_s", "mu_s", "r_hook", "nbx", "nby", "nfx", "nfy")
+                    "p0x", "p0y", "beta", "cone_half", "face_off", "phi_s", "mu_s", "mu_k", "r_hook", "nbx", "nby", "nfx", "nfy",
+                    "slip_speed", "pf", "pf_c", "af", "af_c")
     SLIDE_STATE = ("th1", "s", "pa", "pt", "w1", "ws", "wa", "wt", "ux", "uy", "nx", "ny", "face", "mu_sig", "lock1",
                    "lock1k", "lockA", "lockAk", "tq0")
     SLIDE_PARAMS = ("If", "m", "mg", "Pa", "Pt", "Pag", "Ptg", "Ja", "Jt", "Pat", "cfr", "m3gh", "k", "stiff", "alim",
-                    "p0x", "p0y", "r_hook")
+                    "p0x", "p0y", "r_hook", "pf", "pf_c", "af", "af_c")
     FLIGHT_STATE = ("pa", "pt", "wa", "wt", "lockA", "lockAk")
 
     def __init__(self, P: _Arrays, frames: int, dt: float, detail: bool, hold: bool = False):
         self.P, self.frames, self.dt, self.detail = P, frames, dt, detail
         self.hold = hold  # the hook never slips or lets go (swing_trace)
+        # dry friction, regularised (DRY_FRICTION_RATE): torque -clip(c·w, -T, T), c = T / rate
+        P.pf_c = P.pf / np.maximum(DRY_FRICTION_RATE, P.pf * dt / (P.I_pf * DRY_FRICTION_STEP))
+        P.af_c = P.af / np.maximum(DRY_FRICTION_RATE, P.af * dt / (P.I_af * DRY_FRICTION_STEP))
         n = len(P.m)
         self.n = n
         S = _Arrays()
@@ -763,6 +790,7 @@ class _Run:
         for k in ("t_stop", "t_snap", "t_cross"):
             setattr(S, k, np.full(n, np.nan))
         S.closest = np.full(n, np.inf)
+        S.graze = np.full(n, np.inf)  # closest the hook came to the next seat on reaching its depth without seating
         self.S = S
         # results, by design id
         self.reason = np.full(n, -1, dtype=np.int64)
@@ -773,11 +801,11 @@ class _Run:
         self.miss = np.full(n, np.nan)
         sh = (n, frames)
         self.sw = {k: np.full(sh, np.nan) for k in ("t_catch", "theta1_catch", "theta2_catch", "t_detach",
-                                                    "theta1_detach", "alpha_detach", "theta2_min", "theta2_max")}
+                                                    "theta1_detach", "alpha_detach", "theta2_min", "theta2_max",
+                                                    "catch_seat")}
         if detail:
             g, j = units.GRAVITY, np.arange(frames)[:, None]
-            pe = lambda th: (P.frame_m * g * j * P.rise + P.m3gLa * np.sin(th) + P.m3gh * np.cos(th)  # noqa: E731
-                             - P.dT * np.sin(th))
+            pe = lambda th: (P.frame_m * g * j * P.rise - P.cfr * np.sin(th) + P.m3gh * np.cos(th))  # noqa: E731
             zero = np.zeros((1, n))
             self._pe = (np.concatenate((zero, np.cumsum(pe(P.stop), axis=0))),
                         np.concatenate((zero, np.cumsum(pe(P.rest), axis=0))))
@@ -788,7 +816,7 @@ class _Run:
             self.e_rise = np.zeros(n)
         # the start: frame 0 at rest, the robot hanging from its seat at theta2_start, arm fully bent, at rest
         S.th1 = P.rest.copy()
-        S.pa, S.pt = _placement(P, P.theta2_start, P.amax)
+        S.pa, S.pt = _placement(P, P.theta2_start)
         S.ux, S.uy, S.nx, S.ny = P.ubx.copy(), P.uby.copy(), P.nbx.copy(), P.nby.copy()
         S.lockA, S.lockAk = np.ones(n), np.full(n, 2.0)  # against the alpha_max stop
         S.lock1, S.lock1k = np.ones(n), np.ones(n)  # on its rest stop (the first step lifts it if it can)
@@ -796,6 +824,7 @@ class _Run:
         self.sw["t_catch"][:, 0] = 0.0
         self.sw["theta1_catch"][:, 0] = np.degrees(P.rest)
         self.sw["theta2_catch"][:, 0] = np.degrees(P.theta2_start)
+        self.sw["catch_seat"][:, 0] = 0.0  # the start sets the hook on the seat
         S.rec[:] = True
         all_ = np.arange(n)
         self._start_swing(all_, 0.0)
@@ -831,7 +860,7 @@ class _Run:
         g = units.GRAVITY
         th = Q.rest[None, :] + np.radians(TURN_BACK_DEG) * np.linspace(0.0, 1.0, 9)[:, None]
         th = np.maximum(th, X.th1[None, :])
-        v_floor = (Q.m3gLa * np.sin(th) + Q.m3gh * np.cos(th) - Q.dT * np.sin(th) - Q.m * g * Q.Lb * np.sin(th)
+        v_floor = (-Q.cfr * np.sin(th) + Q.m3gh * np.cos(th) - Q.m * g * Q.Lb * np.sin(th)
                    + Q.W_min)
         barrier = np.max(v_floor, axis=0) - e > ENERGY_BARRIER_MARGIN * Q.e_scale
         S.barrier[rows] = barrier
@@ -901,7 +930,10 @@ class _Run:
         release, start_slide, face, sig = _cone(Q, X, Fx, Fy, c1, s1)
         if self.hold:
             release, start_slide = release & False, start_slide & False
-        S.piv[rows] = Q.mu_s * Q.r_hook * self._normal_sum(Q, X, Fx, Fy, c1, s1)
+        # the tip turning in the notch: its surface slides over the faces at r·|w_arm - w_frame| (the pymunk switch
+        # reads the slip at the contact point): kinetic friction above sim.slip_speed, static below
+        mu = np.where(Q.r_hook * np.abs(X.wa - X.w1) > Q.slip_speed, Q.mu_k, Q.mu_s)
+        S.piv[rows] = mu * Q.r_hook * self._normal_sum(Q, X, Fx, Fy, c1, s1, mu)
         unlock1, unlockA = _unlocked(X, lam1, lamA, release)
         if release.any():
             self._release(rows[release], t, t)
@@ -961,14 +993,13 @@ class _Run:
         S.w1[kr], S.ws[kr], S.wa[kr], S.wt[kr] = v
         self._hooked_events(kr, t, X.s, np.ones(len(kr), dtype=bool))
 
-    def _normal_sum(self, Q, X, Fx, Fy, c1, s1):
+    def _normal_sum(self, Q, X, Fx, Fy, c1, s1, mu):
         """The sum of the faces' normal forces under the joint force F of a sticking hook, for its turning
         friction. In the corner F = sum_i N_i·(n_i + mu·sig·perp(n_i)): each face's normal force plus the
         friction of the tip turning on it (sig: the sense of the arm's rotation relative to the frame), which is
         what bounds the torque at high friction (mu -> inf: the wedge carries the load by friction alone). On one
         face: that face's normal force."""
         flx, fly = c1 * Fx + s1 * Fy, c1 * Fy - s1 * Fx
-        mu = Q.mu_s
         ms = mu * np.where(X.wa >= X.w1, 1.0, -1.0)
         bx, by, fx, fy = Q.nbx, Q.nby, Q.nfx, Q.nfy
         abx, aby = bx - ms * by, by + ms * bx  # n + mu·sig·perp(n)
@@ -1058,7 +1089,7 @@ class _Run:
         S.t_stop[rows] = t_stop
         held = at_stop & (t1 - t_stop >= P.stop_hold[rows])
         turned = ~at_stop & (th1 < peak - np.radians(TURN_BACK_DEG))
-        near = peak >= stop - np.radians(NEAR_STOP_DEG)
+        near = peak >= P.held_past[rows]
         since = t1 - S.t_catch[rows]
         timeout = ~held & ~turned & (since > P.swing_timeout[rows])
         rest = P.rest[rows]
@@ -1233,6 +1264,7 @@ class _Run:
         S.hx[rows], S.hy[rows] = ox, oy
         S.t_snap[rows], S.t_cross[rows] = np.nan, np.nan
         S.in_notch[rows] = False
+        S.graze[rows] = np.inf
         S.slide[rows], S.mu_sig[rows], S.ws[rows], S.lock1[rows], S.lock1k[rows] = 0.0, 0.0, 0.0, 0.0, 0.0
         S.phase[rows] = _FLIGHT
         sw = self.sw
@@ -1323,6 +1355,18 @@ class _Run:
         depth = (hx - seat_x) * Q.bisx + (hy - seat_y) * Q.bisy
         caught = in_notch & (depth <= 0.0)
         if caught.any():
+            # the world's catch needs the hook's centre within sim.catch_seat of the seat: here, where the free
+            # hook reaches the seat's depth (the model then sets it on the seat); farther is a graze
+            d0 = (hx0 - seat_x) * Q.bisx + (hy0 - seat_y) * Q.bisy
+            lam_d = np.clip(d0 / np.where(d0 != depth, d0 - depth, 1.0), 0.0, 1.0)
+            gap = np.hypot(hx0 + lam_d * (hx - hx0) - seat_x, hy0 + lam_d * (hy - hy0) - seat_y)
+            grazed = caught & (gap > Q.catch_seat)
+            gz = rows[grazed]
+            S.graze[gz] = np.minimum(S.graze[gz], gap[grazed])
+            S.in_notch[gz] = False
+            in_notch = in_notch & ~grazed
+            caught = caught & ~grazed
+        if caught.any():
             # the moment the hook reached the seat's depth, inside the step: the state there (the centre of
             # mass in closed form, the arm and torso interpolated)
             c = caught
@@ -1330,7 +1374,7 @@ class _Run:
             d1 = depth[c]
             lam_d = np.clip(d0 / np.where(d0 != d1, d0 - d1, 1.0), 0.0, 1.0)
             mid = [x0[c] + lam_d * (x1[c] - x0[c]) for x0, x1 in zip((X.pa, X.pt, X.wa, X.wt), (pa, pt, wa, wt))]
-            self._catch(rows[c], t + lam_d * dt, mid, t1)
+            self._catch(rows[c], t + lam_d * dt, mid, t1, gap[c])
         # the end of a transfer that was not caught
         live = ~caught
         low_mouth = np.minimum(np.minimum(ay, oy + Q.mfy), seat_y) - NOTCH_EXIT_MARGIN
@@ -1360,7 +1404,8 @@ class _Run:
         half = 0.5 * (P.amax[rows] - P.amin[rows])
         stiff = S.a_rel[rows] - P.amin[rows] < half
         low = ~stiff & (S.h_rel[rows] < P.min_release_height[rows])
-        rest = ~stiff & ~low
+        graze = ~stiff & ~low & np.isfinite(S.graze[rows])
+        rest = ~stiff & ~low & ~graze
         never = rest & np.isnan(S.t_cross[rows])
         rest &= ~never
         t_snap, t_cross = S.t_snap[rows], S.t_cross[rows]
@@ -1371,13 +1416,14 @@ class _Run:
         ahead = rest & ~behind
         self._finish(rows[stiff], _R_STIFF, t_end[stiff], np.degrees(S.a_rel[rows[stiff]]))
         self._finish(rows[low], _R_LOW, t_end[low], S.h_rel[rows[low]])
+        self._finish(rows[graze], _R_GRAZE, t_end[graze], S.graze[rows[graze]])
         self._finish(rows[never], _R_NEVER_DOWN, t_end[never])
         self._finish(rows[weak], _R_WEAK, t_end[weak], np.degrees(S.a_rel[rows[weak]] - S.a_cross[rows[weak]]))
         self._finish(rows[behind], _R_BEHIND, t_end[behind], -dx[behind])
         self._finish(rows[ahead], _R_AHEAD, t_end[ahead], dx[ahead])
 
     # ---------------------------------------------------------------- catch
-    def _catch(self, rows, t_c, mid, t1):
+    def _catch(self, rows, t_c, mid, t1, gap):
         """The hook reached the seat of frame fi + 1 at t_c (robot angles and rates ``mid`` then): the inelastic
         catch, then the hooked motion to t1 (or the end of the row)."""
         S, P = self.S, self.P
@@ -1388,6 +1434,7 @@ class _Run:
         S.fi[rows] = j
         self.trav[ids] = j
         self.sw["t_catch"][ids, j] = t_m
+        self.sw["catch_seat"][ids, j] = gap  # the model then sets the hook on the seat: 0 for the rest of the swing
         last = j == self.frames - 1
         S.pa[rows], S.pt[rows], S.wa[rows], S.wt[rows] = mid
         if last.any():
@@ -1550,7 +1597,9 @@ def _check_raw(raw) -> None:
          "the frame must be able to turn from rest_angle_deg to stop_angle_deg by 10 to 270 deg"),
         (np.abs(d("dT")) > d("m1") * units.GRAVITY * np.maximum(d("La"), d("Lb")),
          "design.dT would put the frame's centre of mass beyond its ends"),
-        (d("arm_mass") >= d("m2"), "design.arm_mass must be below design.m2"),
+        (d("arm_mass") + d("coin_mass") + d("handrail_mass") >= d("m2"),
+         "design.m2 must exceed its listed parts arm_mass + coin_mass + handrail_mass"),
+        (d("coin_offset") > d("torso_length"), "design.coin_offset must not exceed design.torso_length"),
     ]
     for bad, what in checks:
         if bad.any():
@@ -1569,7 +1618,7 @@ def _simulate_raw(raw, frames: int, dt: float) -> BatchResult:
     return res
 
 
-_TEXT_KEYS = ("stop_hold", "stop", "swing_timeout", "rest_timeout", "t_max")
+_TEXT_KEYS = ("stop_hold", "stop", "held_past", "swing_timeout", "rest_timeout", "t_max")
 
 
 def _batch_result(run: _Run, wall: float) -> BatchResult:
@@ -1595,7 +1644,7 @@ def _reason_text(code: int, v1: float, v2: float, origin: int, P, i: int) -> str
     if code == _R_STOP_HOLD:
         return say.held_at_stop(origin, P.stop_hold[i], math.degrees(P.stop[i]))
     if code == _R_TURN_NEAR_STOP:
-        return say.turned_back_near_stop(origin, v1)
+        return say.turned_back_holding(origin, v1, math.degrees(P.held_past[i]))
     if code == _R_TURN_BACK:
         return say.turned_back(origin, v1)
     if code == _R_TIMEOUT:
@@ -1613,6 +1662,8 @@ def _reason_text(code: int, v1: float, v2: float, origin: int, P, i: int) -> str
         return say.spring_too_stiff(origin, v1)
     if code == _R_LOW:
         return say.released_low(origin, v1)
+    if code == _R_GRAZE:
+        return say.grazed(origin, v1)
     if code == _R_NEVER_DOWN:
         return say.never_came_down(origin)
     if code == _R_WEAK:
@@ -1678,7 +1729,8 @@ def simulate_reduced(cfg: Config, dt: float | None = None):
                             t_detach=opt(td), theta1_detach_deg=opt(sw["theta1_detach"][0, j]),
                             swing_duration=None if np.isnan(td) else float(td - tc),
                             alpha_detach_deg=opt(sw["alpha_detach"][0, j]),
-                            theta2_min_deg=opt(sw["theta2_min"][0, j]), theta2_max_deg=opt(sw["theta2_max"][0, j])))
+                            theta2_min_deg=opt(sw["theta2_min"][0, j]), theta2_max_deg=opt(sw["theta2_max"][0, j]),
+                            catch_seat_mm=opt(sw["catch_seat"][0, j] * 1e3)))
     origin = int(run.last_frame[0])
     reason = _reason_text(code, run.rv[0, 0], run.rv[0, 1], origin, P, 0)
     outcome = OUTCOMES[_REASON_OUTCOME[code]]

@@ -6,13 +6,36 @@ Frame (theta1) and robot (theta2) are two links jointed at the handrail:
     eta4·theta1'' + eta5·theta2'' + eta6 = 0
 
     eta1 = m2·Lb² + m3·(La² + h²) + I1          eta2 = eta4 = m2·Lb·Lc·cos(theta1 - theta2)
-    eta3 = m2·Lb·Lc·theta2'²·sin(theta1 - theta2) - m2·g·Lb·cos theta1 + m3·g·La·cos theta1
-           - m3·g·h·sin theta1 - tau1
+    eta3 = m2·Lb·Lc·theta2'²·sin(theta1 - theta2) - m2·g·Lb·cos theta1 - dT·cos theta1
+           + m3·g·La·cos theta1 - m3·g·h·sin theta1 - tau1
     eta5 = m2·Lc² + I2                           eta6 = -m2·Lb·Lc·theta1'²·sin(theta1 - theta2)
            - m2·g·Lc·cos theta2 - tau2
 
-``inertia="consistent"`` uses I1 = 2·m1/3·(La²+Lb²-La·Lb); ``"paper"`` adds I3 as A13 does
-(counting the counterbalance twice, since eta1 already holds it).
+dT (``design.dT``) is the frame's own moment, a torque dT·cos theta1 about its axis: it enters the
+theta1 equation only, beside the robot's drive m2·g·Lb·cos theta1 (as in Eq. (1)), and its
+potential is -dT·sin theta1. I1 stays the frame's inertia about its axis.
+
+Two conventions, each a named option of :func:`coefficients` (and of :func:`simulate`,
+:func:`time_to_angle_batch`):
+
+``inertia`` (the frame, I1): ``"consistent"`` uses I1 = 2·m1/3·(La²+Lb²-La·Lb); ``"paper"`` adds
+I3 as A13 does (counting the counterbalance twice, since eta1 already holds it).
+
+``robot`` (the robot link: its mass m2, hook-to-centre distance Lc, inertia I2 about its centre,
+and what the frame carries at the seat):
+
+- ``"paper"`` (default): the model exactly as written, m2 and Lc from Table 1 and A14's
+  I2 = m2/3·(Ld² + Ld·Lc + Lc²). A14 integrates l² from Lc to Ld measured from the hook, so it is
+  already an inertia about the hook (of a uniform line whose centre is at (Lc+Ld)/2, not at Lc);
+  eta5 = m2·Lc² + I2 then adds a parallel-axis term on top, counting the robot's distance from the
+  hook twice. Kept because it is the paper's model.
+- ``"parts"``: the robot as the pymunk world builds it (:class:`aero_env.inertia.RobotParts`:
+  arm rod, torso card strip, coins), held rigid with the arm fully bent (alpha_max, how the robot
+  hangs all swing long on a working design): m2 = the parts' mass, Lc and I2 the parts'
+  hook-to-centre distance and inertia about their centre, so eta5 = m2·Lc² + I2 is the parts'
+  inertia about the hook. The handrail's card (``handrail_mass``), which Table 1 counts in m2,
+  rides on the frame at the seat (distance Lb from the axis): it adds handrail_mass·Lb² to eta1 and
+  its weight handrail_mass·g·Lb·cos theta1 to the drive, and does not swing with the robot.
 
 Drag (``drag=True``): the frame's tau1 = -(1/8)·rho·Cd·A·theta1'|theta1'|·(La⁴+Lb⁴), and the
 robot link's drag from the joint to its centre (l in [0, Lc]) with normal velocity
@@ -29,6 +52,7 @@ path: fixed-step RK4 vectorised over many designs at once.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,8 +60,10 @@ from scipy.integrate import solve_ivp
 
 from ..config import Design
 from ..drag_law import strip_drag
-from ..inertia import counterbalance_inertia, frame_inertia, robot_inertia
+from ..inertia import RobotParts, counterbalance_inertia, frame_inertia, robot_inertia
 from ..units import GRAVITY as G
+
+ROBOT_CONVENTIONS = ("paper", "parts")
 
 
 @dataclass
@@ -55,13 +81,35 @@ class SwingResult:
 
 
 @dataclass(frozen=True)
-class Coefficients:
-    """The constant parts of the eta's for one design."""
+class RobotLink:
+    """The robot as the two-link model's second link, under one ``robot`` convention (SI)."""
 
-    eta1: float
-    m2LbLc: float
-    eta5: float
-    m2gLb: float
+    mass: float  # m2: the mass that swings with the robot, hanging at the joint
+    Lc: float  # joint (hook) to the robot's centre of mass
+    I_centre: float  # I2: inertia about the robot's centre of mass
+    seat_mass: float  # mass the frame carries at the seat (distance Lb), counted in Table 1's m2
+
+
+def robot_link(d: Design, robot: str = "paper") -> RobotLink:
+    """The robot link of the named convention (see the module docstring)."""
+    if robot == "paper":
+        return RobotLink(mass=d.m2, Lc=d.Lc, I_centre=robot_inertia(d), seat_mass=0.0)
+    if robot == "parts":
+        parts = RobotParts(d)
+        # hanging, the robot's weight holds the leaf spring fully bent: the arm sits at alpha_max
+        lc, i_centre = parts.rigid(math.radians(d.alpha_max_deg))
+        return RobotLink(mass=parts.mass, Lc=float(lc), I_centre=float(i_centre), seat_mass=d.handrail_mass)
+    raise ValueError(f"robot convention {robot!r}: must be one of {ROBOT_CONVENTIONS}")
+
+
+@dataclass(frozen=True)
+class Coefficients:
+    """The constant parts of the eta's for one design (m2, Lc: the robot link of the convention)."""
+
+    eta1: float  # inertia about the frame axis: robot at the joint, seat mass, counterbalance, frame
+    m2LbLc: float  # coupling, eta2 = m2·Lb·Lc·cos(theta1 - theta2)
+    eta5: float  # the robot's inertia about the joint, m2·Lc² + I2
+    drive: float  # (m2 + seat mass)·g·Lb + dT: the moment turning the frame forward is drive·cos theta1
     m3gLa: float
     m3gh: float
     m2gLc: float
@@ -71,12 +119,17 @@ class Coefficients:
     robot_drag: float  # (1/2)·rho·Cd·A_robot
 
 
-def coefficients(d: Design, inertia: str = "consistent") -> Coefficients:
+def coefficients(d: Design, inertia: str = "consistent", robot: str = "paper") -> Coefficients:
+    """The eta coefficients of design ``d`` under the named I1 (``inertia``) and robot conventions."""
+    link = robot_link(d, robot)
+    # everything at the joint turns with the frame at radius Lb: the robot's mass and the seat's
+    at_joint = link.mass + link.seat_mass
     return Coefficients(
-        eta1=d.m2 * d.Lb**2 + counterbalance_inertia(d) + frame_inertia(d, inertia),
-        m2LbLc=d.m2 * d.Lb * d.Lc, eta5=d.m2 * d.Lc**2 + robot_inertia(d),
-        m2gLb=d.m2 * G * d.Lb, m3gLa=d.m3 * G * d.La, m3gh=d.m3 * G * d.h, m2gLc=d.m2 * G * d.Lc,
-        Lb=d.Lb, Lc=d.Lc,
+        eta1=at_joint * d.Lb**2 + counterbalance_inertia(d) + frame_inertia(d, inertia),
+        m2LbLc=link.mass * d.Lb * link.Lc, eta5=link.mass * link.Lc**2 + link.I_centre,
+        drive=at_joint * G * d.Lb + d.dT,
+        m3gLa=d.m3 * G * d.La, m3gh=d.m3 * G * d.h, m2gLc=link.mass * G * link.Lc,
+        Lb=d.Lb, Lc=link.Lc,
         frame_drag=d.rho * d.Cd * d.frame_width * (d.La**4 + d.Lb**4) / 8.0,
         robot_drag=0.5 * d.rho * d.Cd * d.robot_width,
     )
@@ -98,24 +151,29 @@ def accelerations(c: Coefficients, th1, th2, w1, w2, tau1=0.0, tau2=0.0):
     """(theta1'', theta2'') from the two equations; works on scalars or numpy arrays."""
     s, co = np.sin(th1 - th2), np.cos(th1 - th2)
     eta2 = c.m2LbLc * co
-    eta3 = c.m2LbLc * w2**2 * s - c.m2gLb * np.cos(th1) + c.m3gLa * np.cos(th1) - c.m3gh * np.sin(th1) - tau1
+    eta3 = c.m2LbLc * w2**2 * s - c.drive * np.cos(th1) + c.m3gLa * np.cos(th1) - c.m3gh * np.sin(th1) - tau1
     eta6 = -c.m2LbLc * w1**2 * s - c.m2gLc * np.cos(th2) - tau2
     det = c.eta1 * c.eta5 - eta2 * eta2
     return (-eta3 * c.eta5 + eta2 * eta6) / det, (-c.eta1 * eta6 + eta2 * eta3) / det
 
 
 def energy(c: Coefficients, th1, th2, w1, w2):
-    """Kinetic + gravitational energy (J), zero of height at the frame axis."""
+    """Kinetic + potential energy (J), zero of height at the frame axis.
+
+    The drive's potential is -drive·sin theta1: gravity on the masses at the joint (height
+    -Lb·sin theta1) and dT's, since its torque dT·cos theta1 = -dV/dtheta1 gives V = -dT·sin theta1.
+    """
     kin = 0.5 * c.eta1 * w1**2 + 0.5 * c.eta5 * w2**2 + c.m2LbLc * np.cos(th1 - th2) * w1 * w2
-    pot = -c.m2gLb * np.sin(th1) - c.m2gLc * np.sin(th2) + c.m3gLa * np.sin(th1) + c.m3gh * np.cos(th1)
+    pot = -c.drive * np.sin(th1) - c.m2gLc * np.sin(th2) + c.m3gLa * np.sin(th1) + c.m3gh * np.cos(th1)
     return kin + pot
 
 
 def simulate(d: Design, theta1_0: float, theta2_0: float, omega1_0: float = 0.0, omega2_0: float = 0.0,
              t_end: float = 2.0, until_theta1: float | None = None, drag: bool = False,
-             inertia: str = "consistent", rtol: float = 1e-10, atol: float = 1e-12) -> SwingResult:
+             inertia: str = "consistent", robot: str = "paper", rtol: float = 1e-10,
+             atol: float = 1e-12) -> SwingResult:
     """Integrate the two-link model from the given state (radians, rad/s) to t_end or until_theta1."""
-    c = coefficients(d, inertia)
+    c = coefficients(d, inertia, robot)
 
     def rhs(_t, y):
         tau1, tau2 = drag_torques(c, *y) if drag else (0.0, 0.0)
@@ -149,13 +207,13 @@ def _integrate(rhs, y0, t_end, until_theta1, rtol, atol, one_link: bool = False)
 
 
 def time_to_angle_batch(designs, theta1_0, theta2_0, until_theta1: float, t_end: float = 2.0,
-                        dt: float = 5e-4, inertia: str = "consistent") -> np.ndarray:
+                        dt: float = 5e-4, inertia: str = "consistent", robot: str = "paper") -> np.ndarray:
     """Time (s) for theta1 to reach ``until_theta1`` for many designs at once (NaN if it never does).
 
     Fixed-step RK4 vectorised over the batch, no drag; the crossing is located by cubic Hermite
     interpolation inside the step. ``theta1_0``/``theta2_0`` may be scalars or per-design arrays.
     """
-    cs = [coefficients(d, inertia) for d in designs]
+    cs = [coefficients(d, inertia, robot) for d in designs]
     c = Coefficients(*(np.array([getattr(ci, f) for ci in cs]) for f in Coefficients.__dataclass_fields__))
     n = len(cs)
     th1 = np.full(n, theta1_0, dtype=float)

@@ -1,9 +1,10 @@
 """Convert a validated SI config into the engine's scale (mm, g, s, radians).
 
-This is the single place where SI values cross into the engine (see :mod:`aero_env.units`).
-It also derives the robot's part geometry: the torso's own moment of inertia is chosen so
-that the whole robot, with its arm fully bent (alpha_max), has the paper's inertia I2 about
-its centre of mass; the two-link model and the pymunk robot then swing the same body.
+This is the single place where SI values cross into the engine (see :mod:`aero_env.units`):
+every length, mass, inertia, torque, speed and angle the world uses is converted here once,
+and the world converts nothing. The robot's parts (torso card with its coins, the arm) come from
+:class:`aero_env.inertia.RobotParts`, the same builder the analytical ``parts`` convention uses;
+the handrail's card, which Table 1 counts in m2, rides on the frame at the seat.
 """
 
 from __future__ import annotations
@@ -12,10 +13,8 @@ import math
 from dataclasses import dataclass
 
 from .. import units
-from ..config import Config, ConfigError
-from ..inertia import frame_inertia, robot_inertia
-
-
+from ..config import Config
+from ..inertia import RobotParts, frame_inertia
 
 @dataclass(frozen=True)
 class EngineParams:
@@ -25,10 +24,13 @@ class EngineParams:
     h: float
     m_frame: float
     m_cb: float
+    m_handrail: float  # the handrail's card, a point mass at the seat (-Lb, 0)
+    pivot_friction: float  # Coulomb torque at each frame's skewer (0: no part)
     frame_com_x: float  # the frame's own centre of mass along its axis, from dT
     I_frame_axis: float  # frame alone about its axis (consistent I1)
     rest_angle: float
     stop_angle: float
+    balance_angle: float  # where Eq. (1)'s moment on the frame turns negative: past it only momentum carries it
     notch_angle: float  # world direction of the notch bisector at the rest angle
     notch_opening: float
     notch_back_face: float
@@ -43,8 +45,9 @@ class EngineParams:
     torso_com: float
     I_arm: float  # about the arm's own centre of mass
     I_torso: float  # about the torso's own centre of mass
-    Lc: float  # two-link joint-to-centre distance (pinned-hook scene)
-    I2: float  # the robot about its centre of mass (paper A14)
+    axle_friction: float  # Coulomb torque at the arm's axle (0: no part)
+    Lc: float  # pinned-hook scene: hook to the rigid robot's centre (the parts held at alpha_max)
+    I2: float  # pinned-hook scene: the rigid robot about its centre of mass (the parts held at alpha_max)
     alpha_min: float
     alpha_max: float
     spring_k: float
@@ -69,21 +72,37 @@ class EngineParams:
     collision_slop: float
     slip_speed: float
     max_speed: float
+    # event and monitor thresholds the runner compares engine values with
+    contact_hold: float
+    catch_seat: float  # a held touch counts as a catch only with the hook centre this close to the seat
+    min_release_height: float
+    max_joint_drift: float
+    max_penetration: float  # as a depth
+    floor_y0: float  # the floor: y = floor_y0 + x·floor_slope
+    floor_slope: float
 
 
-def robot_mass_layout(arm_length: float, torso_com: float, m_arm: float, m_torso: float, alpha: float):
+def robot_mass_layout(p: "EngineParams", alpha: float):
     """Torso-frame positions (axle at the origin, torso hanging along -y) of the hook, the arm's
-    centre, the torso's centre and the robot's centre of mass, for arm angle ``alpha``.
+    centre, the torso's centre and the robot's centre of mass, for arm angle ``alpha`` (engine units).
 
     alpha is the interior angle at the axle between the torso (axle -> torso centre) and the
     arm (axle -> hook): 180 deg would be a straight robot, alpha_min the spring's straight shape.
     """
-    hook = (arm_length * math.sin(alpha), -arm_length * math.cos(alpha))
+    hook = (p.arm_length * math.sin(alpha), -p.arm_length * math.cos(alpha))
     arm_c = (hook[0] / 2.0, hook[1] / 2.0)
-    torso_c = (0.0, -torso_com)
-    m = m_arm + m_torso
-    com = ((m_arm * arm_c[0] + m_torso * torso_c[0]) / m, (m_arm * arm_c[1] + m_torso * torso_c[1]) / m)
+    torso_c = (0.0, -p.torso_com)
+    m = p.m_arm + p.m_torso
+    com = ((p.m_arm * arm_c[0] + p.m_torso * torso_c[0]) / m, (p.m_arm * arm_c[1] + p.m_torso * torso_c[1]) / m)
     return hook, arm_c, torso_c, com
+
+
+def balance_angle(d) -> float:
+    """theta1 (rad) at which the quasi-static moment on the frame, Eq. (1)'s right side
+    (m2·g·Lb + dT - m3·g·La)·cos θ + m3·g·h·sin θ = R·cos(θ - φ), changes sign from + to -:
+    θ = φ + 90 deg. The prototype's is 125.3 deg, as the article states."""
+    g = units.GRAVITY
+    return math.atan2(d.m3 * g * d.h, d.m2 * g * d.Lb + d.dT - d.m3 * g * d.La) + 0.5 * math.pi
 
 
 def to_engine(cfg: Config) -> EngineParams:
@@ -91,34 +110,28 @@ def to_engine(cfg: Config) -> EngineParams:
     L, M, I = units.LENGTH, units.MASS, units.INERTIA
     rad = math.radians
 
-    m_arm, m_robot = d.arm_mass * M, d.m2 * M
-    m_torso = m_robot - m_arm
-    arm_length, torso_com = d.arm_length * L, d.torso_com * L
-    alpha_max = rad(d.alpha_max_deg)
-    # Torso inertia: the robot at alpha_max must have I2 about its centre of mass.
-    _, arm_c, torso_c, com = robot_mass_layout(arm_length, torso_com, m_arm, m_torso, alpha_max)
-    I_arm = m_arm * arm_length**2 / 12.0
-    I_torso = (robot_inertia(d) * I - I_arm
-               - m_arm * ((arm_c[0] - com[0]) ** 2 + (arm_c[1] - com[1]) ** 2)
-               - m_torso * ((torso_c[0] - com[0]) ** 2 + (torso_c[1] - com[1]) ** 2))
-    if I_torso <= 0.0:
-        raise ConfigError(
-            f"design.Ld = {d.Ld!r}: the robot inertia I2 = m2/3*(Ld^2+Ld*Lc+Lc^2) is smaller than its parts "
-            f"(arm_length, torso_com) allow; raise Ld or Lc, or shorten arm_length/torso_com")
+    parts = RobotParts(d)
+    # the pinned-hook scene's robot: the parts held rigid at alpha_max (two_link's "parts" convention)
+    rigid_Lc, rigid_I = (float(v) for v in parts.rigid(math.radians(d.alpha_max_deg)))
     # Eq. (1) adds +dT·cos(theta1); a centre of mass at x along the frame gives -m1·g·x·cos(theta1).
     frame_com_x = -(d.dT / (d.m1 * units.GRAVITY)) * L
+    # The floor follows the row's incline, floor_drop below the frame axes.
+    floor_slope = s.rise / s.pitch
 
     return EngineParams(
         La=d.La * L, Lb=d.Lb * L, h=d.h * L,
-        m_frame=d.m1 * M, m_cb=d.m3 * M, frame_com_x=frame_com_x,
+        m_frame=d.m1 * M, m_cb=d.m3 * M, m_handrail=d.handrail_mass * M,
+        pivot_friction=d.pivot_friction * units.TORQUE, frame_com_x=frame_com_x,
         I_frame_axis=frame_inertia(d, "consistent") * I,
-        rest_angle=rad(d.rest_angle_deg), stop_angle=rad(d.stop_angle_deg),
+        rest_angle=rad(d.rest_angle_deg), stop_angle=rad(d.stop_angle_deg), balance_angle=balance_angle(d),
         notch_angle=rad(d.notch_angle_deg), notch_opening=rad(d.notch_opening_deg),
         notch_back_face=d.notch_back_face * L, notch_front_face=d.notch_front_face * L,
         rail_radius=d.handrail_thickness * L / 2.0, hook_radius=d.hook_radius * L,
-        m_robot=m_robot, m_arm=m_arm, m_torso=m_torso, arm_length=arm_length, torso_com=torso_com,
-        I_arm=I_arm, I_torso=I_torso, Lc=d.Lc * L, I2=robot_inertia(d) * I,
-        alpha_min=rad(d.alpha_min_deg), alpha_max=alpha_max,
+        m_robot=parts.mass * M, m_arm=parts.m_arm * M, m_torso=parts.m_torso * M,
+        arm_length=d.arm_length * L, torso_com=parts.torso_com * L,
+        I_arm=parts.I_arm * I, I_torso=parts.I_torso * I, axle_friction=d.axle_friction * units.TORQUE,
+        Lc=rigid_Lc * L, I2=rigid_I * I,
+        alpha_min=rad(d.alpha_min_deg), alpha_max=rad(d.alpha_max_deg),
         spring_k=d.spring_k * units.TORQUE, mu_s=d.mu_s, mu_k=d.mu_k,
         drag_coeff=0.5 * d.rho * units.DENSITY * d.Cd,
         frame_width=d.frame_width * L, robot_width=d.robot_width * L,
@@ -128,4 +141,8 @@ def to_engine(cfg: Config) -> EngineParams:
         substeps=sim.substeps, step=sim.dt * sim.substeps * units.TIME, iterations=sim.iterations,
         collision_slop=sim.collision_slop * L, slip_speed=sim.slip_speed * units.VELOCITY,
         max_speed=sim.max_speed * units.VELOCITY,
+        contact_hold=sim.contact_hold * units.TIME, catch_seat=sim.catch_seat * L,
+        min_release_height=sim.min_release_height * L, max_joint_drift=sim.max_joint_drift * L,
+        max_penetration=sim.max_penetration * (d.hook_radius + d.handrail_thickness / 2.0) * L,
+        floor_y0=-s.floor_drop * L, floor_slope=floor_slope,
     )

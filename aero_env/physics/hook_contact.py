@@ -3,14 +3,20 @@
 pymunk gives each contact pair one friction coefficient, the product of the two shapes'
 coefficients, which Chipmunk recomputes every step for every touching pair. Static and
 kinetic friction are modelled by switching the hook's coefficient once per runner step,
-before the step (:meth:`StaticKineticFriction.before_step`): if the tip moves relative to the
-handrail it touches faster than ``slip_speed`` it gets mu_k, otherwise mu_s. Below the
+before the step (:meth:`StaticKineticFriction.before_step`): if the tip's surface slides over
+a handrail face it touches faster than ``slip_speed`` it gets mu_k, otherwise mu_s. Below the
 threshold the solver's Coulomb cone holds the tip with mu_s, so the tip sticks until the
 tangential load exceeds mu_s·N and slides on with mu_k until it slows below the threshold
-again. The switch reads two bodies once per step, where a ``pre_solve`` callback would cross
-from C into Python for every touching face (two in the notch's corner) and build a contact
-point set each time: it cost 8 µs of a 13 µs step. A scene that asks for one coefficient gets
-no switch at all: the coefficient is set on the shape and the C solver does the rest.
+again.
+
+The slip is read where the surfaces meet: the velocity of the tip's contact point (its centre's
+velocity plus the arm's spin times the radius) relative to the card's point under it, along the
+face. A tip that turns in the corner while its centre stays put is sliding on both faces, and
+counts as such. The contact points come from geometry (the tip's centre against the faces of the
+frame it touches), not from a ``pre_solve`` callback, which would cross from C into Python for
+every touching face and build a contact point set each time. A scene that asks for one
+coefficient gets no switch at all: the coefficient is set on the shape and the C solver does the
+rest.
 
 The part also keeps track of which frame's handrail the tip touches (begin/separate
 callbacks), which is what the event detector reads; it costs nothing between contacts.
@@ -27,8 +33,9 @@ from .swing_frame import HANDRAIL, HOOK
 class StaticKineticFriction:
     """mu_s while the tip sticks, mu_k while it slides (switched by slip speed)."""
 
-    def __init__(self, mu_s: float, mu_k: float, slip_speed: float):
+    def __init__(self, mu_s: float, mu_k: float, slip_speed: float, contact_band: float):
         self.mu_s, self.mu_k, self.slip_speed = mu_s, mu_k, slip_speed
+        self.contact_band = contact_band  # a face this close to the tip's surface is touching it
         self.initial = mu_s
         self.sliding = False
 
@@ -37,18 +44,24 @@ class StaticKineticFriction:
         self.hook = contact.hook_shape
         self.arm = self.hook.body
         self.tip_local = self.hook.offset
+        self.radius = self.hook.radius
         self.frames = contact.frames
 
+    def slip(self) -> float:
+        """The fastest sliding of the tip's surface over any face it touches (engine units)."""
+        frame = self.frames[next(iter(self.contact.touching))]
+        arm, body = self.arm, frame.body
+        centre = arm.local_to_world(self.tip_local)
+        fastest = 0.0
+        for point, tangent in frame.contacts(centre, self.radius, self.contact_band):
+            v = arm.velocity_at_world_point(point) - body.velocity_at_world_point(point)
+            fastest = max(fastest, abs(v.dot(tangent)))
+        return fastest
+
     def before_step(self) -> None:
-        touching = self.contact.touching
-        if not touching:
+        if not self.contact.touching:
             return
-        # The tip's velocity relative to the handrail at the tip: in resting contact its normal
-        # part is zero, so its length is the slip speed (both faces of the corner share the body).
-        arm = self.arm
-        p = arm.local_to_world(self.tip_local)
-        v = arm.velocity_at_world_point(p) - self.frames[next(iter(touching))].body.velocity_at_world_point(p)
-        sliding = v.length > self.slip_speed
+        sliding = self.slip() > self.slip_speed
         if sliding != self.sliding:
             self.sliding = sliding
             self.hook.friction = self.mu_k if sliding else self.mu_s
@@ -66,9 +79,9 @@ class SingleFriction:
         pass
 
 
-def friction_law(name: str, mu_s: float, mu_k: float, slip_speed: float):
+def friction_law(name: str, mu_s: float, mu_k: float, slip_speed: float, contact_band: float):
     if name == "static_kinetic":
-        return StaticKineticFriction(mu_s, mu_k, slip_speed)
+        return StaticKineticFriction(mu_s, mu_k, slip_speed, contact_band)
     if name == "static":
         return SingleFriction(mu_s)
     if name == "kinetic":

@@ -8,6 +8,10 @@ torso and the arm (see :func:`engine_params.robot_mass_layout`); the stopper lim
 
 Hanging makes the robot's weight open alpha against the spring until the alpha_max limit
 (the "fully bent" spring); in flight the spring snaps the arm forward to alpha_min.
+
+Masses, centres and inertias are the parts' own (:class:`aero_env.inertia.RobotParts`): a card
+torso strip with the coins on it, and the arm as a uniform rod. ``axle_friction`` > 0 adds the
+axle's dry friction as a capped motor (:func:`swing_frame.coulomb_friction`).
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ from typing import NamedTuple
 import pymunk
 
 from .engine_params import EngineParams, robot_mass_layout
-from .swing_frame import HOOK
+from .swing_frame import HOOK, coulomb_friction
 
 _ROBOT = pymunk.ShapeFilter(group=2)
 
@@ -47,13 +51,16 @@ class Robot:
         self.axle = pymunk.PivotJoint(self.torso, self.arm, (0.0, 0.0), (0.0, 0.0))
         self.arm_stop = pymunk.RotaryLimitJoint(self.torso, self.arm, p.alpha_min - math.pi / 2,
                                                 p.alpha_max - math.pi / 2)
+        self.joints = [self.axle, self.arm_stop]
+        if p.axle_friction > 0.0:
+            self.joints.append(coulomb_friction(self.torso, self.arm, p.axle_friction))
 
     def add_to(self, space: pymunk.Space) -> None:
-        space.add(self.torso, self.arm, self.tip, self.axle, self.arm_stop)
+        space.add(self.torso, self.arm, self.tip, *self.joints)
 
     def place_hanging(self, hook_world: pymunk.Vec2d, theta2: float, alpha: float) -> None:
         """Put the hook tip at ``hook_world`` with the robot line (centre -> hook) at angle theta2."""
-        hook, _, _, com = robot_mass_layout(self.p.arm_length, self.p.torso_com, self.p.m_arm, self.p.m_torso, alpha)
+        hook, _, _, com = robot_mass_layout(self.p, alpha)
         local_line = pymunk.Vec2d(hook[0] - com[0], hook[1] - com[1])
         rot = theta2 - local_line.angle
         self.torso.angle = rot
@@ -125,8 +132,9 @@ class Robot:
 
 
 class RigidRobot:
-    """The two-link model's robot for the pinned-hook scene: one rigid body, mass m2 and inertia I2
-    about its centre, which lies Lc from the hook. No arm, no spring (alpha is not modelled)."""
+    """The two-link model's robot for the pinned-hook scene: one rigid body with the parts' mass,
+    centre and inertia held at alpha_max (two_link's ``robot="parts"`` convention; the handrail's
+    card stays on the frame). No arm, no spring (alpha is not modelled)."""
 
     def __init__(self, p: EngineParams):
         self.p = p

@@ -6,10 +6,16 @@ the body angle *is* theta1 (the brief's convention). The handrail (hook seat) is
 limit: the frame turns only between the rest angle (held there by the counterbalance) and
 the end stop.
 
-The handrail is a notch of two card faces meeting at a corner. At the rest angle its
-bisector points along ``notch_angle`` (world); the robot's hook sits in the corner. As the
-frame turns, the notch tilts with it, the normal force drops and the hook slides along the
-back face and off its end: that is the detach (brief, steps 3-4).
+The handrail is the L-shaped card (⌟ in the article's figures) whose inside corner holds the
+arm's hook: two card faces meeting at ``notch_opening`` (90 deg for an L). At the rest angle the
+corner's bisector points along ``notch_angle`` (world); the hook sits in the corner. As the frame
+turns, the L tilts with it, the normal force drops and the hook slides along a face and off its
+end: that is the detach (brief, steps 3-4). docs/physics.md says where each value comes from.
+
+The handrail's card (``handrail_mass``) is a point mass at the seat. The skewer's friction in
+the card's shaft hole (``pivot_friction``) is a :class:`pymunk.SimpleMotor` at rate 0 whose
+torque is capped at the Coulomb torque: the solver holds the frame still up to that torque and
+lets it turn against exactly that torque beyond it, with no Python per step. Zero builds no part.
 """
 
 from __future__ import annotations
@@ -26,16 +32,27 @@ FLOOR = 3
 _NO_SELF = pymunk.ShapeFilter(group=1)  # handrails of different frames never collide with each other
 
 
+def coulomb_friction(a: pymunk.Body, b: pymunk.Body, torque: float) -> pymunk.SimpleMotor:
+    """Dry friction between two bodies turning on a shared axis: a motor that drives their
+    relative rate to zero with at most ``torque`` (pymunk caps the impulse at max_force·dt)."""
+    motor = pymunk.SimpleMotor(a, b, 0.0)
+    motor.max_force = torque
+    return motor
+
+
 class SwingFrame:
     def __init__(self, index: int, p: EngineParams):
         self.index = index
         self.axis = pymunk.Vec2d(index * p.pitch, index * p.rise)
-        m = p.m_frame + p.m_cb
-        cog = pymunk.Vec2d((p.m_frame * p.frame_com_x + p.m_cb * p.La) / m, p.m_cb * p.h / m)
+        # frame card (its centre where dT puts it), counterbalance at (La, h), handrail card at the seat
+        m = p.m_frame + p.m_cb + p.m_handrail
+        cog = pymunk.Vec2d((p.m_frame * p.frame_com_x + p.m_cb * p.La - p.m_handrail * p.Lb) / m, p.m_cb * p.h / m)
         body = pymunk.Body(m, 1.0)
         # Order matters in pymunk: centre of gravity, then angle, then position (angle turns about the cog).
         body.center_of_gravity = cog
-        body.moment = p.I_frame_axis + p.m_frame * p.frame_com_x**2 + p.m_cb * (p.La**2 + p.h**2) - m * cog.length_squared
+        # I1 is the frame card's inertia about the axis whatever dT says (dT moves its centre, not I1)
+        I_axis = p.I_frame_axis + p.m_cb * (p.La**2 + p.h**2) + p.m_handrail * p.Lb**2
+        body.moment = I_axis - m * cog.length_squared
         body.angle = p.rest_angle
         body.position = self.axis
         self.body = body
@@ -65,6 +82,8 @@ class SwingFrame:
             pymunk.PivotJoint(self.anchor, body, self.axis, (0.0, 0.0)),
             pymunk.RotaryLimitJoint(self.anchor, body, p.rest_angle, p.stop_angle),
         ]
+        if p.pivot_friction > 0.0:
+            self.constraints.append(coulomb_friction(self.anchor, body, p.pivot_friction))
         self.live = False
 
     # -- presence in the space (frames outside the live window cost nothing) --
@@ -97,6 +116,30 @@ class SwingFrame:
         rest angle."""
         x, y, a = state[0], state[1], state[2]
         return math.hypot(x - self.axis.x, y - self.axis.y), max(0.0, a - self.stop_angle, self.rest_angle - a)
+
+    def contacts(self, centre: pymunk.Vec2d, radius: float, band: float):
+        """(world contact point, world unit tangent) of each face a circle at ``centre`` touches:
+        its surface within ``band`` of the card's. Falls back to the nearest face, since the
+        contact callbacks already say the circle touches this frame."""
+        body = self.body
+        local = body.world_to_local(centre)
+        found, nearest = [], None
+        for (ax, ay, ux, uy, length) in self._faces:
+            along = min(max((local.x - ax) * ux + (local.y - ay) * uy, 0.0), length)
+            qx, qy = ax + along * ux, ay + along * uy  # nearest point of the face's centre line
+            gap = math.hypot(local.x - qx, local.y - qy)
+            item = (gap, qx, qy, ux, uy)
+            if nearest is None or gap < nearest[0]:
+                nearest = item
+            if gap <= radius + self.rail_radius + band:
+                found.append(item)
+        out = []
+        for gap, qx, qy, ux, uy in found or [nearest]:
+            # the contact point lies on the card's surface, between the face line and the circle's centre
+            f = self.rail_radius / gap if gap > 0.0 else 0.0
+            point = pymunk.Vec2d(qx + (local.x - qx) * f, qy + (local.y - qy) * f)
+            out.append((body.local_to_world(point), pymunk.Vec2d(ux, uy).rotated(body.angle)))
+        return out
 
     def penetration(self, state: tuple, point: tuple[float, float], radius: float) -> float:
         """How deep a circle at world ``point`` sits inside this frame's handrail card (0 when

@@ -72,7 +72,8 @@ class World:
             self.robot = Robot(p)
             self.spring = SPRING_LAWS[fx.spring_law](self.robot, p.spring_k, p.alpha_min)
             self.contact = HookContact(self.robot.tip, self.frames,
-                                       friction_law(fx.friction, p.mu_s, p.mu_k, p.slip_speed))
+                                       friction_law(fx.friction, p.mu_s, p.mu_k, p.slip_speed,
+                                                    p.collision_slop))
         self.robot.add_to(space)
         self.spring.add_to(space)
         self.drag = AirDrag(self.frames, self.robot, p) if fx.drag else None

@@ -1,0 +1,105 @@
+"""What the runner watches besides the events: energy, the health of the constraints, a
+finite state, and the recording of the trace and the animation poses.
+
+Every check reads the world once (:meth:`World.sample`) and compares it with limits that
+:mod:`engine_params` converted from the config; nothing here converts units.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .world import World
+
+TRACE_COLUMNS = ("t", "frame", "theta1", "theta2", "alpha", "omega1", "omega2", "alpha_rate", "contact", "energy")
+
+_HEALTH_WORDS = (
+    ("joint drift", "sim.max_joint_drift", 1e3, "mm", "a skewer or the arm's axle came apart"),
+    ("limit overshoot", "sim.max_limit_overshoot_deg", 180 / math.pi, "deg", "a body turned through its stopper"),
+    ("penetration", "sim.max_penetration (as a depth)", 1e3, "mm", "the hook sank into (or through) a handrail card"),
+)
+
+
+class Monitors:
+    """The energy and health of a run, checked on the check cadence; the first breach ends it."""
+
+    def __init__(self, world: World, sim):
+        self.world = world
+        d = world.cfg.design
+        # The energy scale of the machine: the robot and counterbalance falling the frame's length, plus
+        # what the fully bent spring stores (a stiff spring moves far more energy than gravity does).
+        from .. import units
+
+        self.e_tol = sim.energy_tolerance * ((d.m2 + d.m3) * units.GRAVITY * (d.La + d.Lb) + world.spring_capacity())
+        self.limits = (sim.max_joint_drift, math.radians(sim.max_limit_overshoot_deg),
+                       units.length_to_si(world.p.max_penetration))
+        self.max_speed = world.p.max_speed
+        self.e0 = world.energy()
+        self.e_min, self.max_gain, self.max_rise = self.e0, 0.0, 0.0
+        self.worst = [0.0, 0.0, 0.0]  # joint drift (m), limit overshoot (rad), penetration (m)
+
+    def check(self, sample) -> str | None:
+        """Why the run is unstable, or None."""
+        e, th2 = sample.energy, sample.theta2
+        if not (math.isfinite(e) and math.isfinite(th2)) or sample.max_speed > self.max_speed:
+            return "non-finite or exploding state (a body exceeded sim.max_speed)"
+        self.max_gain = max(self.max_gain, e - self.e0)
+        self.e_min = min(self.e_min, e)
+        self.max_rise = max(self.max_rise, e - self.e_min)
+        if self.max_rise > self.e_tol:
+            return (f"mechanical energy rose by {self.max_rise:.3g} J, above the tolerance {self.e_tol:.3g} J "
+                    f"(sim.energy_tolerance): numerical error (try a smaller sim.dt or more sim.iterations)")
+        return self._health(sample.health)
+
+    def _health(self, measured: tuple) -> str | None:
+        """Update the worst values; name the first constraint that gave more than its tolerance."""
+        for i, (v, lim) in enumerate(zip(measured, self.limits)):
+            if v > self.worst[i]:
+                self.worst[i] = v
+            if v > lim:
+                what, key, scale, unit, meaning = _HEALTH_WORDS[i]
+                return (f"{what} {v * scale:.3g} {unit} above {key} = {lim * scale:.3g} {unit}: {meaning}; "
+                        f"the engine could not hold the constraint (try a smaller sim.dt or more sim.iterations)")
+        return None
+
+    def energy(self, e_final: float) -> dict:
+        return dict(initial=self.e0, final=e_final, max_gain=max(self.max_gain, e_final - self.e0),
+                    max_rise=self.max_rise)
+
+    def health(self) -> dict:
+        return dict(joint_drift=self.worst[0], limit_overshoot_deg=math.degrees(self.worst[1]),
+                    penetration=self.worst[2])
+
+
+class Recorder:
+    """The trace (every ``sim.trace_every`` runner steps) and the animation poses."""
+
+    def __init__(self, world: World, trace: bool, trace_every: int, pose_steps: int):
+        self.world = world
+        self.trace, self.trace_every, self.pose_steps = trace, trace_every, pose_steps
+        self.rows: list[tuple] = []
+        self.poses: list = [(0.0, *world.pose())] if pose_steps else []
+
+    def after_step(self, n: int, t: float, sample) -> None:
+        if self.trace and n % self.trace_every == 0:
+            self.rows.append(self._row(t, sample or self.world.sample()))
+        if self.pose_steps and n % self.pose_steps == 0:
+            self.poses.append((t, *self.world.pose()))
+
+    def finish(self) -> None:
+        if self.pose_steps and self.poses[-1][0] < self.world.t:  # the run's last moment, whatever the cadence
+            self.poses.append((self.world.t, *self.world.pose()))
+
+    def _row(self, t: float, sample) -> tuple:
+        world = self.world
+        robot, cur = world.robot, world.frames[world.active]
+        touching = sorted(world.contact.touching)
+        return (t, cur.index, cur.theta, sample.theta2, robot.alpha, cur.omega, robot.theta2_rate(), robot.alpha_rate,
+                touching[0] if touching else -1, sample.energy)
+
+    def trace_dict(self):
+        import numpy as np
+
+        if not (self.trace and self.rows):
+            return None
+        return {c: np.array(v) for c, v in zip(TRACE_COLUMNS, zip(*self.rows))}

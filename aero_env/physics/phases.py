@@ -1,0 +1,218 @@
+"""The runner's phases: what a run is doing between two events, and what ends each phase.
+
+==============  ==========================================================================
+``Hanging``     the hook on frame i: the frame turns; checks its peak, its stop and its time
+``LettingGo``   contact lost, for less than ``sim.contact_hold``: a bounce returns to Hanging,
+                a lasting loss commits the detach (the state at the first step without contact)
+``Flight``      the robot free: watches the arm's snap and the hook's fall past the next seat;
+                the floor or ``sim.flight_timeout`` ends the run as a named miss
+``Catching``    the hook touches frame i+1: a touch held ``sim.contact_hold`` with the hook's
+                centre within ``sim.catch_seat`` of the seat is a catch; a touch that never
+                seats is a graze, and the flight goes on
+==============  ==========================================================================
+
+Each phase's :meth:`step` runs every runner step (contact bookkeeping, so catch and detach times
+are step-exact) and returns the phase that follows; :meth:`check` runs on the check cadence and
+returns an ending ``(outcome, reason)`` or None; :meth:`observe` takes the check's world sample.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .. import results as say
+from ..results import NEAR_STOP_DEG, REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, Swing
+from .miss import FlightRecord, classify_miss
+
+
+class Run:
+    """What the phases share: the world, the config's thresholds and the swings so far."""
+
+    def __init__(self, world, sim):
+        self.world, self.sim, self.p = world, sim, world.p
+        self.frames, self.robot = world.frames, world.robot
+        self.touches = world.contact.touches
+        self.holding_note = world.contact.holding_note
+        p = self.p
+        self.snapped_alpha = p.alpha_min + 0.5 * (p.alpha_max - p.alpha_min)  # the arm swung half its range
+        self.near_stop = p.stop_angle - STOP_TOLERANCE
+        self.turn_back = math.radians(TURN_BACK_DEG)
+        # A frame that turns back with the hook on, after passing the angle where the weights stop driving
+        # it (or near its stop), was carried there by its momentum and kept the robot: the hook should
+        # have let go (friction too high). One that turns back before it had too little imbalance.
+        self.held_past = min(p.stop_angle - math.radians(NEAR_STOP_DEG), max(p.balance_angle, p.rest_angle))
+        self.swings: list[Swing] = []
+        self.ending: tuple[str, str] | None = None
+
+    def next_seat(self, origin: int):
+        return self.frames[origin + 1].hook_seat_world() if origin + 1 < len(self.frames) else None
+
+    def seat_distance(self, frame) -> float:
+        return (self.robot.hook_world() - frame.hook_seat_world()).length
+
+
+class Hanging:
+    """The hook on ``frame``, caught at ``t``."""
+
+    name = "hanging"
+    every_step = False
+
+    def __init__(self, run: Run, frame, t: float):
+        self.run, self.frame = run, frame
+        self.t_touch = t  # the last runner step at which the hook touched the frame
+        self.peak = frame.theta
+        self.t_stop: float | None = None
+        self.swing = run.swings[-1]
+
+    def step(self, t: float):
+        if self.run.touches(self.frame.index):
+            self.t_touch = t
+            return self
+        return LettingGo(self).step(t)
+
+    def check(self, t: float):
+        run, frame, sim, p = self.run, self.frame, self.run.sim, self.run.p
+        theta1 = frame.theta
+        self.peak = max(self.peak, theta1)
+        if theta1 >= run.near_stop:
+            self.t_stop = t if self.t_stop is None else self.t_stop
+            if t - self.t_stop >= sim.stop_hold:
+                return "no_detach", say.held_at_stop(frame.index, sim.stop_hold, math.degrees(p.stop_angle),
+                                                     run.holding_note)
+        else:
+            self.t_stop = None
+            if theta1 < self.peak - run.turn_back:
+                peak = math.degrees(self.peak)
+                if self.peak >= run.held_past:
+                    return "no_detach", say.turned_back_holding(frame.index, peak, math.degrees(run.held_past),
+                                                                run.holding_note)
+                return "stalled", say.turned_back(frame.index, peak)
+        since_catch = t - self.swing.t_catch
+        if self.peak < p.rest_angle + REST_MOVE and since_catch > sim.rest_timeout:
+            return "stalled", say.never_left_rest(frame.index, sim.rest_timeout)
+        if since_catch > sim.swing_timeout:
+            return "stalled", say.swing_too_long(frame.index, sim.swing_timeout)
+        return None
+
+    def observe(self, sample) -> None:
+        sw = self.swing
+        th2 = math.degrees(sample.theta2)
+        sw.theta2_min_deg, sw.theta2_max_deg = min(sw.theta2_min_deg, th2), max(sw.theta2_max_deg, th2)
+        seat = self.frame.hook_seat_world()
+        gap = math.hypot(sample.hook[0] - seat.x, sample.hook[1] - seat.y)
+        sw.catch_seat_mm = min(sw.catch_seat_mm, gap)  # engine units (mm) until the result is built
+
+
+class LettingGo:
+    """Contact with the hanging frame lost at the step after ``hanging.t_touch``."""
+
+    name = "letting_go"
+    every_step = False
+
+    def __init__(self, hanging: Hanging):
+        self.hanging = hanging
+        run, frame = hanging.run, hanging.frame
+        seat = run.next_seat(frame.index)
+        # the state at the detach: the first step without contact
+        self.record = FlightRecord(frame.index, hanging.t_touch, frame.theta, run.robot.alpha,
+                                   run.robot.hook_world().y - seat.y)
+        self.seat = seat
+
+    def step(self, t: float):
+        h, run = self.hanging, self.hanging.run
+        if run.touches(h.frame.index):  # a brief loss of contact was a bounce, not a detach
+            h.t_touch = t
+            return h
+        if self.record.watching:
+            self.record.observe(t, run.robot, self.seat, run.snapped_alpha)
+        if t - h.t_touch >= run.sim.contact_hold:
+            sw, rec = h.swing, self.record
+            sw.t_detach, sw.theta1_detach_deg = h.t_touch, math.degrees(rec.theta1_detach)
+            sw.swing_duration = h.t_touch - sw.t_catch
+            sw.alpha_detach_deg = math.degrees(rec.alpha_detach)
+            return Flight(run, rec, self.seat)
+        return self
+
+    def check(self, t: float):
+        return self.hanging.check(t)
+
+    def observe(self, sample) -> None:
+        self.hanging.observe(sample)
+
+
+class Flight:
+    """The robot free after letting go of frame ``record.origin``."""
+
+    name = "flight"
+    every_step = False
+
+    def __init__(self, run: Run, record: FlightRecord, seat):
+        self.run, self.record, self.seat = run, record, seat
+        self.next = run.frames[record.origin + 1]
+
+    def step(self, t: float):
+        run = self.run
+        if run.touches(self.next.index):
+            return Catching(self, t).step(t)
+        if self.record.watching:
+            self.record.observe(t, run.robot, self.seat, run.snapped_alpha)
+        return self
+
+    def check(self, t: float):
+        run = self.run
+        com = run.robot.com_world()
+        if com.y < run.world.floor_y(com.x) or t - self.record.t_detach > run.sim.flight_timeout:
+            return classify_miss(self.record, run.p)
+        return None
+
+    def observe(self, sample) -> None:
+        pass
+
+
+class Catching:
+    """The hook touching the next frame since ``t_first``: every step is checked, because the
+    hook's landing is where it sinks deepest into the card."""
+
+    name = "catching"
+    every_step = True
+
+    def __init__(self, flight: Flight, t_first: float):
+        self.flight, self.t_first = flight, t_first
+        self.closest = math.inf  # the hook centre's closest approach to the seat during this touch
+
+    def step(self, t: float):
+        fl = self.flight
+        run, frame = fl.run, fl.next
+        if not run.touches(frame.index):
+            rec = fl.record  # the touch ended without a catch: a graze, unless a later touch seats
+            rec.graze = self.closest if rec.graze is None else min(rec.graze, self.closest)
+            return fl
+        if fl.record.watching:
+            fl.record.observe(t, run.robot, fl.seat, run.snapped_alpha)
+        self.closest = min(self.closest, run.seat_distance(frame))
+        if t - self.t_first >= run.sim.contact_hold and self.closest <= run.p.catch_seat:
+            return self._caught(t)
+        return self
+
+    def _caught(self, t: float):
+        run, frame = self.flight.run, self.flight.next
+        run.world.set_active(frame.index)
+        th2 = math.degrees(run.robot.theta2())
+        run.swings.append(Swing(frame.index, self.t_first, math.degrees(frame.theta), th2,
+                                theta2_min_deg=th2, theta2_max_deg=th2, catch_seat_mm=self.closest))
+        if frame.index == len(run.frames) - 1:
+            run.ending = ("completed", say.completed(frame.index))
+        return Hanging(run, frame, t)
+
+    def check(self, t: float):
+        # a run that ends while the hook still touches without seating ended in a graze
+        rec = self.flight.record
+        before = rec.graze
+        rec.graze = self.closest if before is None else min(before, self.closest)
+        ending = self.flight.check(t)
+        if ending is None:
+            rec.graze = before
+        return ending
+
+    def observe(self, sample) -> None:
+        pass

@@ -1,0 +1,61 @@
+"""``aero-env robustness``: does a design survive being built by hand?
+
+    aero-env robustness CONFIG [--draws N] [--seed S] [--tolerances FILE.yaml] [--workers W] [--json]
+                               [--set KEY=VALUE ...]
+
+The tolerance file is read and checked before anything is simulated, so a bad file (or a bad
+count) ends with one ``config error`` line and exit status 2.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+
+DEFAULT_DRAWS = 100
+DEFAULT_SEED = 0
+DEFAULT_WORKERS = 1
+
+
+def register(sub, scene_command) -> None:
+    rp = scene_command(sub, "robustness", "does a design survive being built by hand? random builds within "
+                                          "tolerances, single changes, per-parameter effects")
+    rp.add_argument("--draws", type=int, default=DEFAULT_DRAWS, help=f"random builds (default {DEFAULT_DRAWS})")
+    rp.add_argument("--seed", type=int, default=DEFAULT_SEED, help=f"seed of the draws (default {DEFAULT_SEED})")
+    rp.add_argument("--tolerances", metavar="FILE.yaml",
+                    help="a list of {name, relative | absolute, [linked: [keys]], [reason]} replacing the default "
+                         "table (aero_env/robustness/tolerances.py)")
+    rp.add_argument("--workers", type=int, default=DEFAULT_WORKERS,
+                    help=f"processes (a spawn pool when > 1; results do not depend on it; default {DEFAULT_WORKERS})")
+    rp.set_defaults(func=cmd_robustness)
+
+
+class _Progress:
+    """'robustness: 37/135 runs' on stderr, rewritten in place; silent unless stderr is a terminal."""
+
+    def __init__(self, stream=None):
+        self.stream = stream or sys.stderr
+        self.on = self.stream.isatty()
+
+    def __call__(self, done: int, total: int) -> None:
+        if self.on:
+            end = "\n" if done == total else ""
+            print(f"\rrobustness: {done}/{total} runs", end=end, file=self.stream, flush=True)
+
+
+def cmd_robustness(args) -> int:
+    from ..cli import load_scene
+    from .report import summarize, table
+    from .study import assess, check_counts
+    from .tolerances import DEFAULT_TOLERANCES, check_against, load_tolerances
+
+    check_counts(args.draws, args.workers)
+    tols = load_tolerances(args.tolerances) if args.tolerances else DEFAULT_TOLERANCES
+    cfg = load_scene(args)
+    check_against(cfg, tols)
+    start = time.perf_counter()
+    study = assess(cfg, tols, draws=args.draws, seed=args.seed, workers=args.workers, progress=_Progress())
+    report = summarize(study, wall_time=time.perf_counter() - start)
+    print(json.dumps(report, indent=2) if args.json else table(report))
+    return 0

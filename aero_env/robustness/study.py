@@ -1,0 +1,78 @@
+"""One robustness study: the nominal run, each tolerance alone at its two ends, and N random builds.
+
+Every run uses ``simulator`` (default :func:`aero_env.simulation.simulate`, at the config's own
+fidelity) and they all go through one batch, nominal first, then the single changes in table
+order (-end, +end), then the draws in draw order, so a pool of W workers is kept busy and the
+order of the results never depends on W.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Sequence
+
+import numpy as np
+
+from ..config import Config, ConfigError
+from .draws import Build, Run, build, draw_factors, run_builds, single_change
+from .tolerances import Tol, check_against
+
+ENDS = (-1.0, 1.0)  # a single change puts one tolerance at its lower, then its upper end
+
+
+@dataclass(frozen=True)
+class SingleChange:
+    tol: Tol
+    end: float
+    build: Build
+    run: Run
+
+
+@dataclass(frozen=True)
+class Study:
+    """Everything one study simulated; :func:`aero_env.robustness.report.summarize` reads it."""
+
+    cfg: Config
+    tols: tuple[Tol, ...]
+    seed: int
+    factors: np.ndarray  # (draws, tolerances): u in [-1, 1) of each tolerance in each draw
+    nominal: Run
+    singles: list[SingleChange]
+    builds: list[Build]
+    runs: list[Run]
+
+    @property
+    def full(self) -> int:
+        """Traversals of a whole row."""
+        return self.cfg.scene.frames - 1
+
+
+def check_counts(draws: int, workers: int) -> None:
+    if isinstance(draws, bool) or not isinstance(draws, int) or draws < 1:
+        raise ConfigError(f"--draws = {draws!r}: must be a whole number >= 1")
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ConfigError(f"--workers = {workers!r}: must be a whole number >= 1")
+
+
+def _default_simulator() -> Callable:
+    from .. import simulation  # looked up at call time, so a test can swap it
+
+    return simulation.simulate
+
+
+def assess(cfg: Config, tols: Sequence[Tol], draws: int, seed: int = 0, workers: int = 1,
+           simulator: Callable | None = None, progress: Callable[[int, int], None] | None = None) -> Study:
+    """Simulate ``cfg``'s nominal build, its single changes and ``draws`` random builds."""
+    tols = tuple(tols)
+    check_counts(draws, workers)
+    check_against(cfg, tols)
+    simulator = simulator or _default_simulator()
+    ends = [(i, e) for i, t in enumerate(tols) if not t.zero for e in ENDS]
+    singles = [single_change(cfg, tols, i, e) for i, e in ends]
+    factors = draw_factors(seed, draws, len(tols))
+    builds = [build(cfg, tols, row) for row in factors]
+    nominal = Build({}, cfg)
+    runs = run_builds([nominal, *singles, *builds], simulator, workers, progress)
+    single_runs, draw_runs = runs[1:1 + len(singles)], runs[1 + len(singles):]
+    changes = [SingleChange(tols[i], e, b, r) for (i, e), b, r in zip(ends, singles, single_runs)]
+    return Study(cfg, tols, seed, factors, runs[0], changes, builds, draw_runs)
