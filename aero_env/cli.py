@@ -151,10 +151,11 @@ def build_parser() -> argparse.ArgumentParser:
     sc = sub.add_parser("schema", help="print the config schema as a Markdown table")
     sc.set_defaults(func=cmd_schema)
     from .bench.commands import register as register_bench
+    from .calibration.command import register as register_calibrate
+    from .robustness.command import register as register_robustness
 
-    register_bench(sub, _scene_command)
-    from .calibration.command import register as register_calibrate; register_calibrate(sub, _scene_command)  # noqa: E702
-    from .robustness.command import register as register_robustness; register_robustness(sub, _scene_command)  # noqa: E702
+    for register in (register_bench, register_calibrate, register_robustness):
+        register(sub, _scene_command)
     for entry in sorted(entry_points(group="aero_env.commands"), key=lambda e: e.name):
         entry.load()(sub, _scene_command)
     return ap

@@ -594,17 +594,21 @@ def _deep_copy(x: Any) -> Any:
     return x
 
 
+def read_yaml(path: str | Path, what: str) -> Any:
+    """The YAML document in ``path``; a one-line ConfigError naming ``what`` (e.g. "config file") and the
+    file when it is missing or not YAML."""
+    p = Path(path)
+    if not p.is_file():
+        raise ConfigError(f"{what} {str(p)!r}: not found")
+    try:
+        return yaml.safe_load(p.read_text())
+    except yaml.YAMLError as exc:
+        raise ConfigError(f"{what} {str(p)!r}: not valid YAML ({' '.join(str(exc).split())})") from None
+
+
 def load_config(path: str | Path | None = None, overrides: Mapping[str, Any] | None = None) -> Config:
     """Load a YAML scene config (or the defaults when ``path`` is None) and apply overrides."""
-    data: Any = {}
-    if path is not None:
-        p = Path(path)
-        if not p.is_file():
-            raise ConfigError(f"config file {str(p)!r}: not found")
-        try:
-            data = yaml.safe_load(p.read_text()) or {}
-        except yaml.YAMLError as exc:
-            raise ConfigError(f"config file {str(p)!r}: not valid YAML ({exc})") from None
+    data = (read_yaml(path, "config file") or {}) if path is not None else {}
     return from_dict(data, overrides)
 
 

@@ -33,6 +33,21 @@ def counterbalance_inertia(d: Design) -> float:
 
 
 # ---- the robot as built from its parts (what the pymunk world swings) ----
+def part_layout(arm_length, torso_com, m_arm, m_torso, alpha):
+    """Torso-frame positions (axle at the origin, torso along -y) of the hook, the arm's centre, the
+    torso's centre and the robot's centre of mass at arm angle ``alpha`` (rad): the interior angle at
+    the axle between torso and arm (alpha_min: spring straight; 180 deg: a straight robot). Any
+    consistent units; floats or numpy arrays."""
+    import numpy as np
+
+    hook = (arm_length * np.sin(alpha), -arm_length * np.cos(alpha))
+    arm_c = (0.5 * hook[0], 0.5 * hook[1])
+    torso_c = (0.0 * hook[0], -torso_com + 0.0 * hook[1])
+    m = m_arm + m_torso
+    com = ((m_arm * arm_c[0] + m_torso * torso_c[0]) / m, (m_arm * arm_c[1] + m_torso * torso_c[1]) / m)
+    return hook, arm_c, torso_c, com
+
+
 class RobotParts:
     """The robot as a hand-made toy is built, in SI: a card torso strip hanging from the axle with
     the coins on it, and the arm, a uniform rod from the axle to the hook. The handrail's card,
@@ -56,17 +71,8 @@ class RobotParts:
         self.I_arm = self.m_arm * d.arm_length**2 / 12.0  # about the arm's own centre
 
     def layout(self, alpha):
-        """Torso-frame positions (axle at the origin, torso along -y) of the hook, the arm's centre,
-        the torso's centre and the robot's centre of mass at arm angle ``alpha`` (rad): the interior
-        angle at the axle between torso and arm (alpha_min: spring straight)."""
-        import numpy as np
-
-        hook = (self.arm_length * np.sin(alpha), -self.arm_length * np.cos(alpha))
-        arm_c = (0.5 * hook[0], 0.5 * hook[1])
-        torso_c = (0.0 * hook[0], -self.torso_com + 0.0 * hook[1])
-        com = ((self.m_arm * arm_c[0] + self.m_torso * torso_c[0]) / self.mass,
-               (self.m_arm * arm_c[1] + self.m_torso * torso_c[1]) / self.mass)
-        return hook, arm_c, torso_c, com
+        """:func:`part_layout` of these parts."""
+        return part_layout(self.arm_length, self.torso_com, self.m_arm, self.m_torso, alpha)
 
     def rigid(self, alpha):
         """(hook-to-centre distance, inertia about the centre of mass) of the robot held rigid at

@@ -18,6 +18,23 @@ NEAR_STOP_DEG = 10.0  # a turn-back this close to the stop is the high-friction 
 STOP_TOLERANCE = 1e-3  # rad: a frame this close to its stop angle is at its stop
 REST_MOVE = math.radians(0.5)  # a frame that never turned this far from its rest angle has not moved
 
+
+def held_past_angle(d):
+    """theta1 (rad) past which a hooked frame that turns back was carried by its momentum and kept the
+    robot, so friction held the hook (no_detach); a turn-back before it had too little imbalance (stalled).
+
+    It is where the quasi-static moment on the frame, Eq. (1)'s right side
+    (m2·g·Lb + dT - m3·g·La)·cos θ + m3·g·h·sin θ = R·cos(θ - φ), changes sign from + to - (θ = φ + 90 deg:
+    125.3 deg for the prototype, as the article states), at least the rest angle and at most NEAR_STOP_DEG
+    short of the stop. ``d`` is a design, or an object with the design's fields as numpy arrays."""
+    import numpy as np
+
+    from .units import GRAVITY as g
+
+    balance = np.arctan2(d.m3 * g * d.h, d.m2 * g * d.Lb + d.dT - d.m3 * g * d.La) + 0.5 * np.pi
+    rest, stop = np.radians(d.rest_angle_deg), np.radians(d.stop_angle_deg)
+    return np.minimum(stop - np.radians(NEAR_STOP_DEG), np.maximum(balance, rest))
+
 FRICTION_HELD = ": friction held the hook"  # how a no_detach says the hook's friction is what held it
 
 

@@ -22,9 +22,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
-import yaml
 
-from ..config import ConfigError
+from ..config import ConfigError, read_yaml
 from .swing_metrics import METRICS
 
 TOP_KEYS = ("swing", "source", "targets")
@@ -50,14 +49,7 @@ class Targets:
 
 def load_targets(path: str | Path) -> Targets:
     """Read and check a targets file."""
-    p = Path(path)
-    if not p.is_file():
-        raise ConfigError(f"--targets {str(p)!r}: not found")
-    try:
-        data = yaml.safe_load(p.read_text())
-    except yaml.YAMLError as exc:
-        raise ConfigError(f"--targets {str(p)!r}: not valid YAML ({' '.join(str(exc).split())})") from None
-    return parse_targets(data, str(p))
+    return parse_targets(read_yaml(path, "--targets"), str(Path(path)))
 
 
 def parse_targets(data: Any, where: str = "targets file") -> Targets:

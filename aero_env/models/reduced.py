@@ -109,7 +109,7 @@ from .. import results as say
 from .. import units
 from ..config import Config, ConfigError, real_field
 from ..inertia import RobotParts
-from ..results import NEAR_STOP_DEG, REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, SimResult, Swing
+from ..results import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, SimResult, Swing, held_past_angle
 
 # ---- numerical choices ----
 STEP = 4e-3  # s: RK4 step. From 0.5 to 4 ms the prototype's first detach stays within 0.7 ms / 0.25 deg and the
@@ -260,7 +260,8 @@ def _params(raw: Mapping[str, np.ndarray]) -> _Arrays:
     P.cfr = dT - P.m3gLa + mh * g * Lb
     P.frame_m = m1 + m3 + mh
     # robot from its parts (aero_env.inertia.RobotParts, as the pymunk robot is built); the handrail is the frame's
-    parts = RobotParts(_DesignArrays(raw))
+    design = _DesignArrays(raw)
+    parts = RobotParts(design)
     ma, mt, m2 = parts.m_arm, parts.m_torso, parts.mass
     L, dc = parts.arm_length, parts.torso_com
     amin, amax = rad(d("alpha_min_deg")), rad(d("alpha_max_deg"))
@@ -288,11 +289,7 @@ def _params(raw: Mapping[str, np.ndarray]) -> _Arrays:
     # notch (frame-local, as swing_frame.SwingFrame builds it)
     rest, stop = rad(d("rest_angle_deg")), rad(d("stop_angle_deg"))
     P.rest, P.stop = rest, stop
-    # the runner's turn-back rule (physics.phases.Run.held_past): past the angle where Eq. (1)'s moment
-    # turns negative, or near the stop, a turn-back with the hook on is friction holding it
-    g = units.GRAVITY
-    balance = np.arctan2(d("m3") * g * d("h"), d("m2") * g * Lb + d("dT") - d("m3") * g * d("La")) + 0.5 * np.pi
-    P.held_past = np.minimum(stop - np.radians(NEAR_STOP_DEG), np.maximum(balance, rest))
+    P.held_past = held_past_angle(design)  # the runner's turn-back rule, the same function
     P.Lb = Lb
     beta = rad(d("notch_angle_deg")) - rest  # bisector, local
     o = rad(d("notch_opening_deg"))

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 from .. import units
 from ..config import Config
 from ..inertia import RobotParts, frame_inertia
+from ..results import held_past_angle
+
 
 @dataclass(frozen=True)
 class EngineParams:
@@ -30,7 +32,7 @@ class EngineParams:
     I_frame_axis: float  # frame alone about its axis (consistent I1)
     rest_angle: float
     stop_angle: float
-    balance_angle: float  # where Eq. (1)'s moment on the frame turns negative: past it only momentum carries it
+    held_past: float  # a hooked frame turning back after passing this angle was held by friction (results)
     notch_angle: float  # world direction of the notch bisector at the rest angle
     notch_opening: float
     notch_back_face: float
@@ -72,37 +74,9 @@ class EngineParams:
     collision_slop: float
     slip_speed: float
     max_speed: float
-    # event and monitor thresholds the runner compares engine values with
-    contact_hold: float
+    # event thresholds the runner compares engine values with
     catch_seat: float  # a held touch counts as a catch only with the hook centre this close to the seat
     min_release_height: float
-    max_joint_drift: float
-    max_penetration: float  # as a depth
-    floor_y0: float  # the floor: y = floor_y0 + x·floor_slope
-    floor_slope: float
-
-
-def robot_mass_layout(p: "EngineParams", alpha: float):
-    """Torso-frame positions (axle at the origin, torso hanging along -y) of the hook, the arm's
-    centre, the torso's centre and the robot's centre of mass, for arm angle ``alpha`` (engine units).
-
-    alpha is the interior angle at the axle between the torso (axle -> torso centre) and the
-    arm (axle -> hook): 180 deg would be a straight robot, alpha_min the spring's straight shape.
-    """
-    hook = (p.arm_length * math.sin(alpha), -p.arm_length * math.cos(alpha))
-    arm_c = (hook[0] / 2.0, hook[1] / 2.0)
-    torso_c = (0.0, -p.torso_com)
-    m = p.m_arm + p.m_torso
-    com = ((p.m_arm * arm_c[0] + p.m_torso * torso_c[0]) / m, (p.m_arm * arm_c[1] + p.m_torso * torso_c[1]) / m)
-    return hook, arm_c, torso_c, com
-
-
-def balance_angle(d) -> float:
-    """theta1 (rad) at which the quasi-static moment on the frame, Eq. (1)'s right side
-    (m2·g·Lb + dT - m3·g·La)·cos θ + m3·g·h·sin θ = R·cos(θ - φ), changes sign from + to -:
-    θ = φ + 90 deg. The prototype's is 125.3 deg, as the article states."""
-    g = units.GRAVITY
-    return math.atan2(d.m3 * g * d.h, d.m2 * g * d.Lb + d.dT - d.m3 * g * d.La) + 0.5 * math.pi
 
 
 def to_engine(cfg: Config) -> EngineParams:
@@ -115,15 +89,13 @@ def to_engine(cfg: Config) -> EngineParams:
     rigid_Lc, rigid_I = (float(v) for v in parts.rigid(math.radians(d.alpha_max_deg)))
     # Eq. (1) adds +dT·cos(theta1); a centre of mass at x along the frame gives -m1·g·x·cos(theta1).
     frame_com_x = -(d.dT / (d.m1 * units.GRAVITY)) * L
-    # The floor follows the row's incline, floor_drop below the frame axes.
-    floor_slope = s.rise / s.pitch
 
     return EngineParams(
         La=d.La * L, Lb=d.Lb * L, h=d.h * L,
         m_frame=d.m1 * M, m_cb=d.m3 * M, m_handrail=d.handrail_mass * M,
         pivot_friction=d.pivot_friction * units.TORQUE, frame_com_x=frame_com_x,
         I_frame_axis=frame_inertia(d, "consistent") * I,
-        rest_angle=rad(d.rest_angle_deg), stop_angle=rad(d.stop_angle_deg), balance_angle=balance_angle(d),
+        rest_angle=rad(d.rest_angle_deg), stop_angle=rad(d.stop_angle_deg), held_past=float(held_past_angle(d)),
         notch_angle=rad(d.notch_angle_deg), notch_opening=rad(d.notch_opening_deg),
         notch_back_face=d.notch_back_face * L, notch_front_face=d.notch_front_face * L,
         rail_radius=d.handrail_thickness * L / 2.0, hook_radius=d.hook_radius * L,
@@ -141,8 +113,5 @@ def to_engine(cfg: Config) -> EngineParams:
         substeps=sim.substeps, step=sim.dt * sim.substeps * units.TIME, iterations=sim.iterations,
         collision_slop=sim.collision_slop * L, slip_speed=sim.slip_speed * units.VELOCITY,
         max_speed=sim.max_speed * units.VELOCITY,
-        contact_hold=sim.contact_hold * units.TIME, catch_seat=sim.catch_seat * L,
-        min_release_height=sim.min_release_height * L, max_joint_drift=sim.max_joint_drift * L,
-        max_penetration=sim.max_penetration * (d.hook_radius + d.handrail_thickness / 2.0) * L,
-        floor_y0=-s.floor_drop * L, floor_slope=floor_slope,
+        catch_seat=sim.catch_seat * L, min_release_height=sim.min_release_height * L,
     )

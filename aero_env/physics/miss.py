@@ -12,28 +12,36 @@ class FlightRecord:
     """What happened since the hook last touched frame ``origin`` (engine units, radians): the
     state at the detach, and in flight the arm's snap and the hook's descent past the next seat."""
 
-    def __init__(self, origin: int, t_detach: float, theta1_detach: float, alpha_detach: float,
-                 release_height: float):
+    def __init__(self, origin: int, t_detach: float, theta1_detach: float, alpha_detach: float, hook_y: float,
+                 seat, snapped_alpha: float):
         self.origin = origin
         self.t_detach = t_detach
         self.theta1_detach = theta1_detach
         self.alpha_detach = alpha_detach
-        self.height = release_height  # hook height above the next frame's seat when it let go
+        self.seat, self.snapped_alpha = seat, snapped_alpha  # the next frame's seat; the arm half-way snapped
+        self.height = hook_y - seat.y  # hook height above the next frame's seat when it let go
         self.crossing: tuple[float, float] | None = None  # (hook x - seat x, alpha) as the hook sinks below the seat
         self.t_cross: float | None = None
         self.t_snap: float | None = None  # when the arm had swung through half its range
         self.graze: float | None = None  # closest the hook came to the next seat while touching without seating
         self.watching = True  # until both the snap and the crossing are seen
 
-    def observe(self, t: float, robot, seat, snapped_alpha: float) -> None:
-        if self.t_snap is None and robot.alpha < snapped_alpha:
+    def observe(self, t: float, robot) -> None:
+        """Per runner step until both the snap and the crossing are seen."""
+        if not self.watching:
+            return
+        if self.t_snap is None and robot.alpha < self.snapped_alpha:
             self.t_snap = t - self.t_detach
         if self.crossing is None:
             hook = robot.hook_world()
-            if hook.y < seat.y:
-                self.crossing = (hook.x - seat.x, robot.alpha)
+            if hook.y < self.seat.y:
+                self.crossing = (hook.x - self.seat.x, robot.alpha)
                 self.t_cross = t - self.t_detach
         self.watching = self.t_snap is None or self.crossing is None
+
+    def note_graze(self, gap: float) -> None:
+        """The hook touched the next handrail and came no closer than ``gap`` to its seat."""
+        self.graze = gap if self.graze is None else min(self.graze, gap)
 
 
 def classify_miss(flight: FlightRecord, p) -> tuple[str, str]:

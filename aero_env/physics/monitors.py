@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 
+from .. import units
 from .world import World
 
 TRACE_COLUMNS = ("t", "frame", "theta1", "theta2", "alpha", "omega1", "omega2", "alpha_rate", "contact", "energy")
@@ -28,11 +29,10 @@ class Monitors:
         d = world.cfg.design
         # The energy scale of the machine: the robot and counterbalance falling the frame's length, plus
         # what the fully bent spring stores (a stiff spring moves far more energy than gravity does).
-        from .. import units
-
         self.e_tol = sim.energy_tolerance * ((d.m2 + d.m3) * units.GRAVITY * (d.La + d.Lb) + world.spring_capacity())
+        # the sample's health is in SI, so are its limits (penetration: a fraction of hook + half the card)
         self.limits = (sim.max_joint_drift, math.radians(sim.max_limit_overshoot_deg),
-                       units.length_to_si(world.p.max_penetration))
+                       sim.max_penetration * (d.hook_radius + 0.5 * d.handrail_thickness))
         self.max_speed = world.p.max_speed
         self.e0 = world.energy()
         self.e_min, self.max_gain, self.max_rise = self.e0, 0.0, 0.0

@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 
 from .. import results as say
-from ..results import NEAR_STOP_DEG, REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, Swing
+from ..results import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, Swing
 from .miss import FlightRecord, classify_miss
 
 
@@ -37,10 +37,6 @@ class Run:
         self.snapped_alpha = p.alpha_min + 0.5 * (p.alpha_max - p.alpha_min)  # the arm swung half its range
         self.near_stop = p.stop_angle - STOP_TOLERANCE
         self.turn_back = math.radians(TURN_BACK_DEG)
-        # A frame that turns back with the hook on, after passing the angle where the weights stop driving
-        # it (or near its stop), was carried there by its momentum and kept the robot: the hook should
-        # have let go (friction too high). One that turns back before it had too little imbalance.
-        self.held_past = min(p.stop_angle - math.radians(NEAR_STOP_DEG), max(p.balance_angle, p.rest_angle))
         self.swings: list[Swing] = []
         self.ending: tuple[str, str] | None = None
 
@@ -83,8 +79,8 @@ class Hanging:
             self.t_stop = None
             if theta1 < self.peak - run.turn_back:
                 peak = math.degrees(self.peak)
-                if self.peak >= run.held_past:
-                    return "no_detach", say.turned_back_holding(frame.index, peak, math.degrees(run.held_past),
+                if self.peak >= p.held_past:  # results.held_past_angle: friction held the hook
+                    return "no_detach", say.turned_back_holding(frame.index, peak, math.degrees(p.held_past),
                                                                 run.holding_note)
                 return "stalled", say.turned_back(frame.index, peak)
         since_catch = t - self.swing.t_catch
@@ -112,25 +108,22 @@ class LettingGo:
     def __init__(self, hanging: Hanging):
         self.hanging = hanging
         run, frame = hanging.run, hanging.frame
-        seat = run.next_seat(frame.index)
         # the state at the detach: the first step without contact
         self.record = FlightRecord(frame.index, hanging.t_touch, frame.theta, run.robot.alpha,
-                                   run.robot.hook_world().y - seat.y)
-        self.seat = seat
+                                   run.robot.hook_world().y, run.next_seat(frame.index), run.snapped_alpha)
 
     def step(self, t: float):
         h, run = self.hanging, self.hanging.run
         if run.touches(h.frame.index):  # a brief loss of contact was a bounce, not a detach
             h.t_touch = t
             return h
-        if self.record.watching:
-            self.record.observe(t, run.robot, self.seat, run.snapped_alpha)
+        self.record.observe(t, run.robot)
         if t - h.t_touch >= run.sim.contact_hold:
             sw, rec = h.swing, self.record
             sw.t_detach, sw.theta1_detach_deg = h.t_touch, math.degrees(rec.theta1_detach)
             sw.swing_duration = h.t_touch - sw.t_catch
             sw.alpha_detach_deg = math.degrees(rec.alpha_detach)
-            return Flight(run, rec, self.seat)
+            return Flight(run, rec)
         return self
 
     def check(self, t: float):
@@ -146,22 +139,25 @@ class Flight:
     name = "flight"
     every_step = False
 
-    def __init__(self, run: Run, record: FlightRecord, seat):
-        self.run, self.record, self.seat = run, record, seat
+    def __init__(self, run: Run, record: FlightRecord):
+        self.run, self.record = run, record
         self.next = run.frames[record.origin + 1]
 
     def step(self, t: float):
         run = self.run
         if run.touches(self.next.index):
             return Catching(self, t).step(t)
-        if self.record.watching:
-            self.record.observe(t, run.robot, self.seat, run.snapped_alpha)
+        self.record.observe(t, run.robot)
         return self
 
-    def check(self, t: float):
+    def check(self, t: float, touching_gap: float | None = None):
+        """The floor or the flight timeout ends the run as a named miss; ``touching_gap``: the hook
+        still touches the next handrail, this far from its seat at best (a graze)."""
         run = self.run
         com = run.robot.com_world()
         if com.y < run.world.floor_y(com.x) or t - self.record.t_detach > run.sim.flight_timeout:
+            if touching_gap is not None:
+                self.record.note_graze(touching_gap)
             return classify_miss(self.record, run.p)
         return None
 
@@ -184,11 +180,9 @@ class Catching:
         fl = self.flight
         run, frame = fl.run, fl.next
         if not run.touches(frame.index):
-            rec = fl.record  # the touch ended without a catch: a graze, unless a later touch seats
-            rec.graze = self.closest if rec.graze is None else min(rec.graze, self.closest)
+            fl.record.note_graze(self.closest)  # the touch ended without a catch: a graze, unless a later one seats
             return fl
-        if fl.record.watching:
-            fl.record.observe(t, run.robot, fl.seat, run.snapped_alpha)
+        fl.record.observe(t, run.robot)
         self.closest = min(self.closest, run.seat_distance(frame))
         if t - self.t_first >= run.sim.contact_hold and self.closest <= run.p.catch_seat:
             return self._caught(t)
@@ -205,14 +199,7 @@ class Catching:
         return Hanging(run, frame, t)
 
     def check(self, t: float):
-        # a run that ends while the hook still touches without seating ended in a graze
-        rec = self.flight.record
-        before = rec.graze
-        rec.graze = self.closest if before is None else min(before, self.closest)
-        ending = self.flight.check(t)
-        if ending is None:
-            rec.graze = before
-        return ending
+        return self.flight.check(t, self.closest)  # ending while still touching unseated is a graze
 
     def observe(self, sample) -> None:
         pass

@@ -3,7 +3,7 @@
 Torso-local coordinates: origin at the axle, the torso hangs along -y to its centre of mass
 at (0, -torso_com). Arm-local coordinates: origin at the axle, +x along the arm to the hook
 tip at (arm_length, 0). The arm angle alpha is the interior angle at the axle between the
-torso and the arm (see :func:`engine_params.robot_mass_layout`); the stopper limits it to
+torso and the arm (see :func:`aero_env.inertia.part_layout`); the stopper limits it to
 [alpha_min, alpha_max] and the leaf spring (a separate part) pushes it toward alpha_min.
 
 Hanging makes the robot's weight open alpha against the spring until the alpha_max limit
@@ -21,7 +21,8 @@ from typing import NamedTuple
 
 import pymunk
 
-from .engine_params import EngineParams, robot_mass_layout
+from ..inertia import part_layout
+from .engine_params import EngineParams
 from .swing_frame import HOOK, coulomb_friction
 
 _ROBOT = pymunk.ShapeFilter(group=2)
@@ -60,7 +61,8 @@ class Robot:
 
     def place_hanging(self, hook_world: pymunk.Vec2d, theta2: float, alpha: float) -> None:
         """Put the hook tip at ``hook_world`` with the robot line (centre -> hook) at angle theta2."""
-        hook, _, _, com = robot_mass_layout(self.p, alpha)
+        p = self.p
+        hook, _, _, com = part_layout(p.arm_length, p.torso_com, p.m_arm, p.m_torso, alpha)
         local_line = pymunk.Vec2d(hook[0] - com[0], hook[1] - com[1])
         rot = theta2 - local_line.angle
         self.torso.angle = rot

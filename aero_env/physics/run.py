@@ -65,7 +65,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
     phase = Hanging(run, frames[0], 0.0)
     ending: tuple[str, str] = ("timeout", say.reached_t_max(sim.t_max))
     closest = math.inf  # engine units: hook to the next seat since the last catch, on the check cadence
-    origin = 0
+    origin, seat = 0, run.next_seat(0)
 
     for n in range(1, int(math.ceil(sim.t_max / step_s)) + 1):
         world.step()
@@ -75,7 +75,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
             ending = run.ending
             break
         if world.active != origin:  # a catch moved the robot on: the miss distance starts again
-            origin, closest = world.active, math.inf
+            origin, seat, closest = world.active, run.next_seat(world.active), math.inf
         sample = None
         if phase.every_step or n % check_every == 0:
             stop = phase.check(t)
@@ -87,7 +87,6 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
             if bad:
                 ending = ("unstable", bad)
                 break
-            seat = run.next_seat(origin)
             closest = min(closest, math.hypot(sample.hook[0] - seat.x, sample.hook[1] - seat.y))
             phase.observe(sample)
         recorder.after_step(n, t, sample)

@@ -47,10 +47,11 @@ class _Progress:
 def cmd_robustness(args) -> int:
     from ..cli import load_scene
     from .report import summarize, table
-    from .study import assess, check_counts
+    from ..bench.designs import check_counts
+    from .study import assess
     from .tolerances import DEFAULT_TOLERANCES, check_against, load_tolerances
 
-    check_counts(args.draws, args.workers)
+    check_counts(draws=args.draws, workers=args.workers)
     tols = load_tolerances(args.tolerances) if args.tolerances else DEFAULT_TOLERANCES
     cfg = load_scene(args)
     check_against(cfg, tols)

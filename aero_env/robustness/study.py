@@ -13,7 +13,8 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..config import Config, ConfigError
+from ..bench.designs import check_counts
+from ..config import Config
 from .draws import Build, Run, build, draw_factors, run_builds, single_change
 from .tolerances import Tol, check_against
 
@@ -47,13 +48,6 @@ class Study:
         return self.cfg.scene.frames - 1
 
 
-def check_counts(draws: int, workers: int) -> None:
-    if isinstance(draws, bool) or not isinstance(draws, int) or draws < 1:
-        raise ConfigError(f"--draws = {draws!r}: must be a whole number >= 1")
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ConfigError(f"--workers = {workers!r}: must be a whole number >= 1")
-
-
 def _default_simulator() -> Callable:
     from .. import simulation  # looked up at call time, so a test can swap it
 
@@ -64,7 +58,7 @@ def assess(cfg: Config, tols: Sequence[Tol], draws: int, seed: int = 0, workers:
            simulator: Callable | None = None, progress: Callable[[int, int], None] | None = None) -> Study:
     """Simulate ``cfg``'s nominal build, its single changes and ``draws`` random builds."""
     tols = tuple(tols)
-    check_counts(draws, workers)
+    check_counts(draws=draws, workers=workers)
     check_against(cfg, tols)
     simulator = simulator or _default_simulator()
     ends = [(i, e) for i, t in enumerate(tols) if not t.zero for e in ENDS]

@@ -39,9 +39,8 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
-import yaml
 
-from ..config import Config, ConfigError, real_field
+from ..config import Config, ConfigError, read_yaml, real_field
 
 MAX_RELATIVE = 0.5  # the config's tolerance section allows ± up to half the value
 LENGTH_MM = 0.0005  # m: a ruler and a craft knife on card
@@ -129,15 +128,7 @@ def check_against(cfg: Config, tols: tuple[Tol, ...], where: str = "tolerances")
 
 def load_tolerances(path: str | Path) -> tuple[Tol, ...]:
     """Read and validate a tolerance file (see the module docstring); ConfigError on any problem."""
-    p = Path(path)
-    where = str(p)
-    if not p.is_file():
-        raise ConfigError(f"tolerance file {where!r}: not found")
-    try:
-        data = yaml.safe_load(p.read_text())
-    except yaml.YAMLError as exc:
-        raise ConfigError(f"tolerance file {where!r}: not valid YAML ({' '.join(str(exc).split())})") from None
-    return parse_tolerances(data, where)
+    return parse_tolerances(read_yaml(path, "tolerance file"), str(Path(path)))
 
 
 def parse_tolerances(data: Any, where: str = "tolerances") -> tuple[Tol, ...]:
