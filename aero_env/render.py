@@ -125,9 +125,9 @@ class Canvas:
             d.ellipse([ox - 3, oy - 3, ox + 3, oy + 3], fill=(0, 0, 0))  # axis skewer
         if path and len(path) > 1:
             d.line([px(q) for q in path], fill=(230, 150, 150), width=1)
-        torso_end = _add(torso_pos, _rot((0.0, -2.0 * g["torso_com"]), torso_angle))
-        d.line([px(torso_pos), px(torso_end)], fill=(30, 90, 200), width=6)  # torso with coins
-        cx, cy = px(_add(torso_pos, _rot((0.0, -g["torso_com"]), torso_angle)))
+        torso_end = _add(torso_pos, _rot((0.0, -g["torso_length"]), torso_angle))
+        d.line([px(torso_pos), px(torso_end)], fill=(30, 90, 200), width=6)  # torso card strip
+        cx, cy = px(_add(torso_pos, _rot((0.0, -g["coin_offset"]), torso_angle)))  # the coins
         d.ellipse([cx - 5, cy - 5, cx + 5, cy + 5], fill=(190, 190, 200))
         hook = self.hook(pose)
         d.line([px(torso_pos), px(hook)], fill=(200, 40, 40), width=3)  # arm

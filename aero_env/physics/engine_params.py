@@ -45,6 +45,8 @@ class EngineParams:
     m_torso: float
     arm_length: float
     torso_com: float
+    torso_length: float  # the torso card strip, axle to its bottom
+    coin_offset: float  # axle to the coins' centre
     I_arm: float  # about the arm's own centre of mass
     I_torso: float  # about the torso's own centre of mass
     axle_friction: float  # Coulomb torque at the arm's axle (0: no part)
@@ -101,6 +103,7 @@ def to_engine(cfg: Config) -> EngineParams:
         rail_radius=d.handrail_thickness * L / 2.0, hook_radius=d.hook_radius * L,
         m_robot=parts.mass * M, m_arm=parts.m_arm * M, m_torso=parts.m_torso * M,
         arm_length=d.arm_length * L, torso_com=parts.torso_com * L,
+        torso_length=d.torso_length * L, coin_offset=d.coin_offset * L,
         I_arm=parts.I_arm * I, I_torso=parts.I_torso * I, axle_friction=d.axle_friction * units.TORQUE,
         Lc=rigid_Lc * L, I2=rigid_I * I,
         alpha_min=rad(d.alpha_min_deg), alpha_max=rad(d.alpha_max_deg),

@@ -108,8 +108,8 @@ class Robot:
         return (self.torso, self.arm)
 
     def drag_strips(self):
-        """(body, start, end) of each link that feels air drag: the torso (twice its centre's depth) and the arm."""
-        return [(self.torso, (0.0, 0.0), (0.0, -2.0 * self.p.torso_com)), (self.arm, (0.0, 0.0), (self.p.arm_length, 0.0))]
+        """(body, start, end) of each link that feels air drag: the torso card strip and the arm."""
+        return [(self.torso, (0.0, 0.0), (0.0, -self.p.torso_length)), (self.arm, (0.0, 0.0), (self.p.arm_length, 0.0))]
 
     def pose(self):
         """(axle position, torso angle, arm angle), engine units."""

@@ -196,7 +196,7 @@ class World:
             axes=[(f.axis.x * s, f.axis.y * s) for f in self.frames],
             faces_local=[[((a.x * s, a.y * s), (b.x * s, b.y * s)) for a, b in self.frames[0].faces_local]],
             La=p.La * s, Lb=p.Lb * s, h=p.h * s, rest_angle=p.rest_angle, stop_angle=p.stop_angle,
-            arm_length=p.arm_length * s, torso_com=p.torso_com * s,
+            arm_length=p.arm_length * s, torso_length=p.torso_length * s, coin_offset=p.coin_offset * s,
             floor=((self.floor_a.x * s, self.floor_a.y * s), (self.floor_b.x * s, self.floor_b.y * s)),
         )
 
