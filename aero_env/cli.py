@@ -3,6 +3,7 @@
     aero-env simulate CONFIG [--set KEY=VALUE ...] [--json] [--trace FILE.csv] [--plot FILE.png] [--gif FILE.gif]
     aero-env compare CONFIG [--set KEY=VALUE ...] [--json] [--plot FILE.png] [--domain-map FILE.png]
     aero-env schema          # every config key with its default, unit, range and meaning
+    aero-env calibrate | robustness | cycle CONFIG ...   # fit unknowns; hand-made builds; the limit cycle
     aero-env bench accuracy|effects|throughput ...   # what accuracy costs in time (aero_env.bench)
 
 Packages add subcommands through the ``aero_env.commands`` entry-point group: each entry is a
@@ -85,9 +86,10 @@ def cmd_compare(args) -> int:
     from . import compare as cmp
 
     cfg = load_scene(args)
-    summary, runs = cmp.compare(cfg)
+    summary, runs = cmp.compare(cfg, args.swing)
+    which = "swing 0, from rest" if args.swing == 0 else f"swing {args.swing}, caught from a flight"
     if args.plot:
-        cmp.plot_comparison(runs, args.plot)
+        cmp.plot_comparison(runs, args.plot, title=f"quasi-static vs two-link vs MBD, {which} (dashed: with drag)")
     if args.domain_map:
         masses = np.geomspace(*args.map_masses[:2], int(args.map_masses[2])) if args.map_masses else None
         ratios = np.linspace(*args.map_ratios[:2], int(args.map_ratios[2])) if args.map_ratios else None
@@ -97,9 +99,13 @@ def cmd_compare(args) -> int:
     if args.json:
         print(json.dumps(summary, indent=2))
     else:
-        print(f"first swing from theta1 = {summary['start']['theta1_deg']:.1f} deg, theta2 = "
-              f"{summary['start']['theta2_deg']:.1f} deg, compared up to the MBD's detach angle "
-              f"{summary['detach_angle_deg']:.1f} deg")
+        st = summary["start"]
+        state = (f"theta1 = {st['theta1_deg']:.1f} deg, theta2 = {st['theta2_deg']:.1f} deg, theta1' = "
+                 f"{st['omega1']:.2f} rad/s, theta2' = {st['omega2']:.2f} rad/s")
+        where = ("the models start from the scene's rest state" if args.swing == 0 else
+                 f"the models start {1e3 * st['t']:.1f} ms after the first touch, once the catch has held")
+        print(f"{which}: {where}, {state}; compared up to the MBD's detach angle "
+              f"{summary['detach_angle_deg']:.1f} deg (times from the catch)")
         print(f"{'model':>13} {'t to angle':>10} {'with drag':>10} {'theta1 where theta1 changes sign':>34} "
               f"{'drag on th1dd':>13}")
         for name, m in summary["models"].items():
@@ -107,6 +113,12 @@ def cmd_compare(args) -> int:
             print(f"{name:>13} {_fmt(m['time_to_detach_angle'], '10.3f')} "
                   f"{_fmt(m['time_to_detach_angle_with_drag'], '10.3f')} {signs:>34} "
                   f"{100 * m['drag_alpha1_change']['relative']:12.2f}%")
+        if "paper_points" in summary:
+            print("\nthe paper's words on this swing (Sec. 7.3, Figs. 40-43), point by point:")
+            print(f"{'point':>24} {'paper':>8} {'+/-':>6} {'MBD':>8} {'unit':>6}  holds")
+            for p in summary["paper_points"]:
+                print(f"{p['key']:>24} {p['paper_value']:8.2f} {p['tolerance']:6.2f} {_fmt(p['ours'], '8.2f')} "
+                      f"{p['unit']:>6}  {'yes' if p['holds'] else 'NO'}")
         for name, path in (("plot", args.plot), ("domain map", args.domain_map)):
             if path:
                 print(f"wrote {name}: {path}")
@@ -140,8 +152,12 @@ def build_parser() -> argparse.ArgumentParser:
     sp.add_argument("--gif", metavar="FILE.gif", help="animate the machine (env.render_slowmo times slower than real time)")
     sp.set_defaults(func=cmd_simulate)
     cp = _scene_command(sub, "compare", "quasi-static vs two-link vs MBD on one scene (the paper's Figs. 40, 42, 43)")
+    cp.add_argument("--swing", type=int, default=1, metavar="N",
+                    help="which swing: 0 starts from rest, 1 (default) is the first caught from a flight, "
+                         "the swing the paper measures (Sec. 7.3)")
     cp.add_argument("--plot", metavar="FILE.png", help="draw theta, omega and theta'' of the three models")
-    cp.add_argument("--domain-map", metavar="FILE.png", help="sweep robot mass and frame energy (the paper's Fig. 29)")
+    cp.add_argument("--domain-map", metavar="FILE.png",
+                    help="sweep robot mass and frame energy over the first swing, from rest (the paper's Fig. 29)")
     cp.add_argument("--map-masses", nargs=3, type=float, metavar=("LO", "HI", "N"),
                     help="robot masses m2 for the map, kg, log-spaced (default: compare.MAP_MASSES, 4-60 g, 7)")
     cp.add_argument("--map-ratios", nargs=3, type=float, metavar=("LO", "HI", "N"),
@@ -152,9 +168,10 @@ def build_parser() -> argparse.ArgumentParser:
     sc.set_defaults(func=cmd_schema)
     from .bench.commands import register as register_bench
     from .calibration.command import register as register_calibrate
+    from .limit_cycle.command import register as register_cycle
     from .robustness.command import register as register_robustness
 
-    for register in (register_bench, register_calibrate, register_robustness):
+    for register in (register_bench, register_calibrate, register_cycle, register_robustness):
         register(sub, _scene_command)
     for entry in sorted(entry_points(group="aero_env.commands"), key=lambda e: e.name):
         entry.load()(sub, _scene_command)

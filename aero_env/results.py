@@ -51,6 +51,12 @@ class Swing:
     theta2_min_deg: float | None = None
     theta2_max_deg: float | None = None
     catch_seat_mm: float | None = None  # the hook centre's closest approach to the seat while the catch held
+    # The state when a catch is committed (sim.contact_hold after the first touch, the step theta2_catch_deg is
+    # read at); the pymunk runner fills them for catches made from a flight, None for the start and the reduced model.
+    omega1_catch: float | None = None  # rad/s: the caught frame's rate theta1'
+    robot_speed_catch: float | None = None  # m/s: the robot's centre-of-mass speed
+    hook_along_catch_mm: float | None = None  # the hook centre from the seat along the frame (+: towards its axis)
+    hook_across_catch_mm: float | None = None  # ... and across it (+: the frame's own +y, up at theta1 = 0)
 
 
 @dataclass

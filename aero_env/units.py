@@ -37,3 +37,7 @@ def length_to_si(x: float) -> float:
 
 def energy_to_si(e: float) -> float:
     return e / ENERGY
+
+
+def velocity_to_si(v: float) -> float:
+    return v / VELOCITY

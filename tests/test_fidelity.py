@@ -145,8 +145,11 @@ def test_bench_effects_toggles_each_effect(capsys):
                      "--json"]) == 0
     rep = json.loads(capsys.readouterr().out)
     rows = {r["effect"]: r for r in rep["effects"]}
-    assert set(rows) == {"drag", "static_kinetic", "live_frames"}
+    assert set(rows) == {"drag", "static_kinetic", "live_frames", "pivot_friction", "axle_friction"}
     assert rows["drag"]["scene"] is False and rows["static_kinetic"]["scene"] == "static_kinetic"
+    # the dry frictions are measured at the scene's own value against no part at all
+    assert rows["pivot_friction"]["scene"] == 1.0e-4 and rows["pivot_friction"]["off"] == 0.0
+    assert rows["axle_friction"]["scene"] == 8.0e-6 and rows["axle_friction"]["off"] == 0.0
     for r in rows.values():
         assert r["cost_ratio"] > 0 and 0 <= r["outcomes_changed"] <= 2 and len(r["changed_designs"]) == r["outcomes_changed"]
 

@@ -8,6 +8,11 @@ own fidelity; everything else stays as it is:
 | ``drag``                  | ``effects.drag: false``           | ``true``                      |
 | ``static_kinetic``        | ``effects.friction: static_kinetic`` | ``kinetic`` (one coefficient, no per-step switch) |
 | ``live_frames``           | ``effects.live_frames: 1``        | ``3`` (two more frames in the space) |
+| ``pivot_friction``        | ``design.pivot_friction: 1.0e-4`` | ``0`` (no motor at any skewer) |
+| ``axle_friction``         | ``design.axle_friction: 8.0e-6``  | ``0`` (no motor at the arm's axle) |
+
+The two dry frictions are design values, not switches: "on" is each drawn design's own value
+(``SCENE_VALUE``), "off" is 0, which builds no part (see ``physics.swing_frame.coulomb_friction``).
 
 For each: the median wall time per design with the effect and without it, their ratio (the
 effect's cost), and the designs whose traversal count the effect changes.
@@ -19,10 +24,14 @@ from ..config import Config
 from ..simulation import simulate
 from .designs import check_counts, draw_designs, median_time
 
+SCENE_VALUE = "as configured"  # "on" is the design's own value of the key
+
 EFFECTS = {
     "drag": ("scene.effects.drag", True, False),
     "static_kinetic": ("scene.effects.friction", "static_kinetic", "kinetic"),
     "live_frames": ("scene.effects.live_frames", 3, 1),
+    "pivot_friction": ("design.pivot_friction", SCENE_VALUE, 0.0),
+    "axle_friction": ("design.axle_friction", SCENE_VALUE, 0.0),
 }
 
 
@@ -35,7 +44,7 @@ def effects(cfg: Config, designs: int = 30, seed: int = 0, repeats: int = 3) -> 
         traversals = {"on": [], "off": []}
         for c in sample.configs:
             for state, value in (("on", on), ("off", off)):
-                run_cfg = c.replace({key: value})
+                run_cfg = c if value is SCENE_VALUE else c.replace({key: value})
                 wall, r = median_time(lambda: simulate(run_cfg), repeats)
                 walls[state] += wall
                 traversals[state].append(r.traversals)

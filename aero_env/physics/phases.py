@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 
 from .. import results as say
+from .. import units
 from ..results import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, Swing
 from .miss import FlightRecord, classify_miss
 
@@ -192,8 +193,13 @@ class Catching:
         run, frame = self.flight.run, self.flight.next
         run.world.set_active(frame.index)
         th2 = math.degrees(run.robot.theta2())
+        hook = frame.body.world_to_local(run.robot.hook_world()) - frame.hook_seat_local  # engine units (mm)
         run.swings.append(Swing(frame.index, self.t_first, math.degrees(frame.theta), th2,
-                                theta2_min_deg=th2, theta2_max_deg=th2, catch_seat_mm=self.closest))
+                                theta2_min_deg=th2, theta2_max_deg=th2, catch_seat_mm=self.closest,
+                                omega1_catch=frame.omega,
+                                robot_speed_catch=units.velocity_to_si(run.robot.com_velocity().length),
+                                hook_along_catch_mm=units.length_to_si(hook.x) * 1e3,
+                                hook_across_catch_mm=units.length_to_si(hook.y) * 1e3))
         if frame.index == len(run.frames) - 1:
             run.ending = ("completed", say.completed(frame.index))
         return Hanging(run, frame, t)

@@ -1,0 +1,90 @@
+"""Rerun every command the docs quote and write its output back, so no number in them goes stale.
+
+A quoted run in ``README.md`` or ``docs/*.md`` is a marker line with the command, then a fenced
+block that this script owns:
+
+    <!-- run: aero-env simulate configs/paper.yaml -->
+    ```text
+    (the command's output, rewritten on every regeneration)
+    ```
+
+Commands run from the repository root with the project's venv on PATH, one at a time (timings
+in the output are of a 2-core machine doing nothing else). A command that writes a figure
+(``--plot docs/compare.png``) regenerates the figure too. A command that fails stops the script
+with its error and leaves every page as it was.
+
+    python scripts/regenerate_docs.py                  # every page
+    python scripts/regenerate_docs.py docs/physics.md  # one page
+    python scripts/regenerate_docs.py --list           # the commands, without running them
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+MARKER = re.compile(r"^<!-- run: (?P<cmd>.+?) -->\n```(?P<lang>\w*)\n(?P<body>.*?)^```$", re.M | re.S)
+PAGES = ("README.md", "docs/*.md")
+
+
+def pages(names: list[str]) -> list[Path]:
+    if names:
+        return [ROOT / n for n in names]
+    found = []
+    for pattern in PAGES:
+        found.extend(sorted(ROOT.glob(pattern)))
+    return found
+
+
+def run(cmd: str) -> str:
+    env = dict(os.environ, PATH=f"{ROOT / '.venv' / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}",
+               COLUMNS="100")
+    proc = subprocess.run(cmd, shell=True, cwd=ROOT, env=env, capture_output=True, text=True)
+    if proc.returncode != 0:
+        sys.exit(f"regenerate_docs: `{cmd}` exited {proc.returncode}:\n{proc.stderr.strip()}")
+    return proc.stdout.rstrip("\n")
+
+
+def regenerate(page: Path) -> str:
+    text = page.read_text()
+
+    def fill(m: re.Match) -> str:
+        t0 = time.perf_counter()
+        out = run(m["cmd"])
+        print(f"  {time.perf_counter() - t0:6.1f} s  {m['cmd']}", file=sys.stderr)
+        return f"<!-- run: {m['cmd']} -->\n```{m['lang']}\n{out}\n```"
+
+    return MARKER.sub(fill, text)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("pages", nargs="*", help="pages to regenerate (default: README.md and docs/*.md)")
+    ap.add_argument("--list", action="store_true", help="print the quoted commands and stop")
+    args = ap.parse_args(argv)
+    todo = pages(args.pages)
+    missing = [str(p) for p in todo if not p.is_file()]
+    if missing:
+        sys.exit(f"regenerate_docs: no such page: {', '.join(missing)}")
+    if args.list:
+        for page in todo:
+            for m in MARKER.finditer(page.read_text()):
+                print(f"{page.relative_to(ROOT)}: {m['cmd']}")
+        return 0
+    new = {}
+    for page in todo:  # every command first: a failure leaves every page as it was
+        print(page.relative_to(ROOT), file=sys.stderr)
+        new[page] = regenerate(page)
+    for page, text in new.items():
+        page.write_text(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
