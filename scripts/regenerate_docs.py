@@ -45,7 +45,8 @@ def pages(names: list[str]) -> list[Path]:
 def run(cmd: str) -> str:
     env = dict(os.environ, PATH=f"{ROOT / '.venv' / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}",
                COLUMNS="100")
-    proc = subprocess.run(cmd, shell=True, cwd=ROOT, env=env, capture_output=True, text=True)
+    # pipefail: a quoted `cmd | tail -1` whose cmd fails must fail, not quote an empty block
+    proc = subprocess.run(["bash", "-o", "pipefail", "-c", cmd], cwd=ROOT, env=env, capture_output=True, text=True)
     if proc.returncode != 0:
         sys.exit(f"regenerate_docs: `{cmd}` exited {proc.returncode}:\n{proc.stderr.strip()}")
     return proc.stdout.rstrip("\n")

@@ -35,8 +35,8 @@ def available_energy(cfg: Config, to_deg: float = FALLBACK_ANGLE_DEG) -> float:
 def domain_map(cfg: Config, masses=None, ratios=None, tolerance: float = 0.10) -> dict:
     """Sweep robot mass m2 and counterbalance ratio m3/(m2·Lb/La) (the frame's available energy).
 
-    The spring and robot inertia scale with m2 (k ∝ m2, so a heavier robot still bends and snaps
-    its arm as the prototype does). For each point: the MBD's first transfer (caught by frame 1
+    The robot's parts (arm, coins, the handrail it is weighed with) and the spring scale with m2
+    (k ∝ m2, so a heavier robot still bends and snaps its arm as the prototype does). For each point: the MBD's first transfer (caught by frame 1
     or not), and whether each analytical model's time to the MBD's detach angle lies within
     ``tolerance`` of the MBD's.
     """
@@ -47,8 +47,10 @@ def domain_map(cfg: Config, masses=None, ratios=None, tolerance: float = 0.10) -
     for m2 in masses:
         for ratio in ratios:
             m3 = ratio * m2 * d.Lb / d.La
-            c = cfg.replace({"design.m2": float(m2), "design.m3": float(m3),
-                             "design.spring_k": d.spring_k * float(m2) / d.m2})
+            f = float(m2) / d.m2  # the robot's parts, spring and handrail scale with it: the same toy, heavier
+            c = cfg.replace({"design.m2": float(m2), "design.m3": float(m3), "design.spring_k": d.spring_k * f,
+                             "design.arm_mass": d.arm_mass * f, "design.coin_mass": d.coin_mass * f,
+                             "design.handrail_mass": d.handrail_mass * f})
             mbd = mbd_swing(c, 0)
             angle, outcome = mbd.angle, mbd.outcome
             qs, tl = analytical(c, mbd.start, angle)
@@ -73,6 +75,7 @@ def plot_domain_map(result: dict, path, prototype: tuple[float, float] | None = 
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator
 
     pts = result["points"]
     tol = result["tolerance"]
@@ -94,13 +97,19 @@ def plot_domain_map(result: dict, path, prototype: tuple[float, float] | None = 
             ax.scatter([prototype[0] * 1e3], [prototype[1]], s=520, marker="s", facecolors="none",
                        edgecolors="black", lw=1.2, label="prototype (Table 1)")
         ax.set_xscale("log")
+        # plain grams at the sampled masses, not 4x10^0
+        ax.xaxis.set_major_locator(FixedLocator(np.unique(x)))
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:.3g}"))
+        ax.xaxis.set_minor_locator(NullLocator())
         ax.set_xlabel("robot mass m2 [g]")
         ax.set_title(f"{title}: error in time to the MBD's detach angle")
         ax.grid(alpha=0.3, which="both")
         fig.colorbar(sc, ax=ax, label="error [%]")
     axes[0].set_ylabel("counterbalance / robot moment (m3·La)/(m2·Lb)")
-    axes[0].legend(fontsize=7, loc="lower left", framealpha=0.9)
-    fig.suptitle("Where each model holds (the paper's Fig. 29, computed; spring stiffness scaled with m2)")
-    fig.tight_layout()
+    # one legend below both panels, where it covers no point
+    handles, names = axes[0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="lower center", ncol=4, fontsize=8, frameon=False)
+    fig.suptitle("Where each model holds (the paper's Fig. 29, computed; the robot's parts and spring scaled with m2)")
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
     fig.savefig(path, dpi=100)
     plt.close(fig)
