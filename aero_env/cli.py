@@ -5,10 +5,16 @@
     aero-env schema          # every config key with its default, unit, range and meaning
     aero-env calibrate | robustness | cycle CONFIG ...   # fit unknowns; hand-made builds; the limit cycle
     aero-env bench accuracy|effects|throughput ...   # what accuracy costs in time (aero_env.bench)
+    aero-env --version
 
 Packages add subcommands through the ``aero_env.commands`` entry-point group: each entry is a
 function ``register(subparsers, scene_command)``. The design agents (``aero-env tune``,
-``train``, ``evaluate``) come in that way, so this package never imports them.
+``train``, ``evaluate``) come in that way, so this package never imports them; a command reads
+its scene and checks its output paths with :mod:`aero_env.scene_args`, not through this module.
+
+Every slip ends with one line on stderr naming the option or key, the value and what is allowed,
+and exit status 2 (argparse's own errors too: no usage block, a pointer to ``--help``); Ctrl-C
+ends with one line and exit status 130. Every option's help shows its default.
 """
 
 from __future__ import annotations
@@ -16,20 +22,52 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from importlib.metadata import entry_points
+from importlib.metadata import PackageNotFoundError, entry_points, version
 
-from .config import ConfigError, load_config, parse_override, schema_rows
+from .config import ConfigError, schema_rows
+from .scene_args import PLOT_SUFFIXES, check_output, load_scene
 
-def load_scene(args):
-    """The config a scene command names, with its ``--set`` overrides applied."""
-    overrides = dict(parse_override(s) for s in args.set or [])
-    return load_config(args.config, overrides)
+__all__ = ["build_parser", "main", "load_scene"]  # load_scene is aero_env.scene_args's, kept importable here
+
+
+def package_version() -> str:
+    try:
+        return version("aero-env")
+    except PackageNotFoundError:  # run from a source tree that was never installed
+        return "unknown (not installed)"
+
+
+class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
+    """Adds "(default: X)" to an option's help unless the help already speaks of its default, or it has
+    none to show (None: the help says what absence means; False: a switch)."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if ("default" in text.lower() or action.default is None or action.default is False
+                or action.default == argparse.SUPPRESS
+                or (not action.option_strings and action.nargs not in ("?", "*"))):
+            return text
+        return f"{text} (default: %(default)s)"
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with :class:`HelpFormatter` everywhere and one-line errors (exit 2) without the usage block."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", HelpFormatter)
+        super().__init__(*args, **kwargs)
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
 def cmd_simulate(args) -> int:
     from .simulation import simulate
     from .render import pose_interval
 
+    check_output(args.trace, "--trace")
+    check_output(args.plot, "--plot", PLOT_SUFFIXES)
+    check_output(args.gif, "--gif", (".gif",))
     cfg = load_scene(args)
     want_trace = bool(args.trace or args.plot)
     result = simulate(cfg, trace=want_trace, poses_every=pose_interval(cfg.env.render_slowmo) if args.gif else None)
@@ -44,6 +82,8 @@ def cmd_simulate(args) -> int:
     if args.gif:
         from .render import write_gif
 
+        print(f"aero-env simulate: encoding {len(result.poses or ())} frames to {args.gif} ...", file=sys.stderr,
+              flush=True)
         write_gif(result, args.gif)
     if args.json:
         print(json.dumps(result.to_json_dict(), indent=2))
@@ -85,6 +125,12 @@ def cmd_compare(args) -> int:
 
     from . import compare as cmp
 
+    check_output(args.plot, "--plot", PLOT_SUFFIXES)
+    check_output(args.domain_map, "--domain-map", PLOT_SUFFIXES)
+    for option, triple in (("--map-masses", args.map_masses), ("--map-ratios", args.map_ratios)):
+        _check_sweep(option, triple)
+    if args.swing < 0:
+        raise ConfigError(f"--swing {args.swing}: must be a whole number >= 0 (0: from rest)")
     cfg = load_scene(args)
     summary, runs = cmp.compare(cfg, args.swing)
     which = "swing 0, from rest" if args.swing == 0 else f"swing {args.swing}, caught from a flight"
@@ -113,6 +159,8 @@ def cmd_compare(args) -> int:
             print(f"{name:>13} {_fmt(m['time_to_detach_angle'], '10.3f')} "
                   f"{_fmt(m['time_to_detach_angle_with_drag'], '10.3f')} {signs:>34} "
                   f"{100 * m['drag_alpha1_change']['relative']:12.2f}%")
+        if args.domain_map:
+            print(_domain_table(summary["domain_map"]))
         if "paper_points" in summary:
             print("\nthe paper's words on this swing (Sec. 7.3, Figs. 40-43), point by point:")
             print(f"{'point':>24} {'paper':>8} {'+/-':>6} {'MBD':>8} {'unit':>6}  holds")
@@ -123,6 +171,32 @@ def cmd_compare(args) -> int:
             if path:
                 print(f"wrote {name}: {path}")
     return 0
+
+
+def _check_sweep(option: str, triple) -> None:
+    """LO HI N of a domain-map axis: 0 < LO < HI and N a whole number >= 2."""
+    if triple is None:
+        return
+    lo, hi, n = triple
+    if not 0 < lo < hi:
+        raise ConfigError(f"{option} {lo:g} {hi:g} {n:g}: needs 0 < LO < HI")
+    if not float(n).is_integer() or not 2 <= n <= 1000:
+        raise ConfigError(f"{option} {lo:g} {hi:g} {n:g}: N = {n:g} must be a whole number in [2, 1000]")
+
+
+def _domain_table(dm) -> str:
+    """Per moment ratio: at how many robot masses each model is within tolerance, and the MBD traverses."""
+    rows = {}
+    for p in dm["points"]:
+        rows.setdefault(round(p["ratio"], 4), []).append(p)
+    lines = [f"\ndomain map (first swing, from rest): points within {100 * dm['tolerance']:.0f} % of the MBD's time, "
+             f"of the robot masses sampled",
+             f"{'(m3·La)/(m2·Lb)':>16} {'masses':>7} {'quasi-static':>13} {'two-link':>9} {'MBD traverses':>14}"]
+    for ratio, pts in sorted(rows.items()):
+        n = len(pts)
+        lines.append(f"{ratio:16.3f} {n:7d} {sum(p['quasi_static_within'] for p in pts):13d} "
+                     f"{sum(p['two_link_within'] for p in pts):9d} {sum(p['mbd_traverses'] for p in pts):14d}")
+    return "\n".join(lines)
 
 
 def cmd_schema(_args) -> int:
@@ -136,16 +210,20 @@ def cmd_schema(_args) -> int:
 
 def _scene_command(sub, name: str, help_text: str) -> argparse.ArgumentParser:
     """A subcommand that reads a scene config, with its overrides and a JSON switch."""
-    sp = sub.add_parser(name, help=help_text)
+    sp = sub.add_parser(name, help=help_text, description=help_text)
     sp.add_argument("config", help="scene YAML (e.g. configs/paper.yaml)")
-    sp.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a config value (repeatable)")
+    sp.add_argument("--set", action="append", metavar="KEY=VALUE",
+                    help="override a config value (repeatable); a number may carry its unit, e.g. design.m2=7.71g, "
+                         "'design.spring_k=0.877 N*mm/rad' (plain numbers are SI; aero-env schema lists the keys)")
     sp.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
     return sp
 
 
 def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="aero-env", description="The paper-craft aerial acrobat robot, simulated.")
-    sub = ap.add_subparsers(dest="command", required=True)
+    ap = Parser(prog="aero-env", description="The paper-craft aerial acrobat robot, simulated.")
+    ap.add_argument("--version", action="version", version=f"%(prog)s {package_version()}",
+                    help="print the installed version and exit")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
     sp = _scene_command(sub, "simulate", "run a scene along its row of swing frames")
     sp.add_argument("--trace", metavar="FILE.csv", help="write the time trace as CSV")
     sp.add_argument("--plot", metavar="FILE.png", help="plot theta1 and theta2 against time (the paper's Fig. 40)")
@@ -153,7 +231,7 @@ def build_parser() -> argparse.ArgumentParser:
     sp.set_defaults(func=cmd_simulate)
     cp = _scene_command(sub, "compare", "quasi-static vs two-link vs MBD on one scene (the paper's Figs. 40, 42, 43)")
     cp.add_argument("--swing", type=int, default=1, metavar="N",
-                    help="which swing: 0 starts from rest, 1 (default) is the first caught from a flight, "
+                    help="which swing: 0 starts from rest, 1 is the first caught from a flight, "
                          "the swing the paper measures (Sec. 7.3)")
     cp.add_argument("--plot", metavar="FILE.png", help="draw theta, omega and theta'' of the three models")
     cp.add_argument("--domain-map", metavar="FILE.png",
@@ -170,8 +248,9 @@ def build_parser() -> argparse.ArgumentParser:
     from .calibration.command import register as register_calibrate
     from .limit_cycle.command import register as register_cycle
     from .robustness.command import register as register_robustness
+    from .sheet.command import register as register_sheet
 
-    for register in (register_bench, register_calibrate, register_cycle, register_robustness):
+    for register in (register_bench, register_calibrate, register_cycle, register_robustness, register_sheet):
         register(sub, _scene_command)
     for entry in sorted(entry_points(group="aero_env.commands"), key=lambda e: e.name):
         entry.load()(sub, _scene_command)
@@ -185,6 +264,9 @@ def main(argv: list[str] | None = None) -> int:
     except ConfigError as exc:
         print(f"aero-env: config error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # commands that keep something (tune, train) say what before this
+        print(f"aero-env {args.command}: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

@@ -20,6 +20,13 @@ Four more sections describe the design problem that the Gymnasium environment po
   not know, drawn at each reset and applied to the built machine.
 * ``env``: episode options (out-of-box actions, reward shaping, rendering).
 
+A number may carry its unit, in a file or in ``--set``: ``m2: 7.71 g``, ``La: "48.3 mm"``,
+``spring_k: 0.877 N*mm/rad``, ``rest_angle_deg: 55 deg`` (:mod:`aero_env.quantities` lists the
+spellings); a plain number is in the key's own unit. The allowed ranges are those of a card toy
+(masses up to 100 g, a spring up to 100 N·mm/rad, friction torques up to 10 N·mm, a row rising
+at most 10 cm a frame), so that a plain number written in the usual smaller unit
+(``design.m2=7.7`` for 7.7 g) is out of range and the error asks "did you mean 7.7 g?".
+
 Every field is declared once below with its default, unit, allowed range and meaning;
 the README's schema table is generated from the same declarations (``aero-env schema``).
 ``load_config(path, overrides={"design.m2": 0.008})`` returns a validated, immutable
@@ -30,6 +37,7 @@ the allowed range.
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
@@ -37,6 +45,7 @@ from typing import Any, Mapping
 
 import yaml
 
+from . import quantities
 from .units import GRAVITY
 
 
@@ -57,30 +66,30 @@ class Design:
 
     La: float = spec(0.0483, "m", "axis to counterbalance, along the frame", 0.0, 1.0, lo_open=True)
     Lb: float = spec(0.0517, "m", "axis to handrail (the hook's seat)", 0.0, 1.0, lo_open=True)
-    Lc: float = spec(0.03, "m", "two-link model: joint (hook) to robot centre; sets I2 with Ld", 0.0, 1.0)
-    Ld: float = spec(0.06, "m", "two-link model: joint (hook) to bottom of torso; sets I2 with Lc", 0.0, 2.0, lo_open=True)
-    h: float = spec(0.005, "m", "counterbalance offset normal to the frame", -0.5, 0.5)
-    m1: float = spec(0.004, "kg", "swing frame mass (I1 = 2*m1/3*(La^2+Lb^2-La*Lb))", 0.0, 10.0, lo_open=True)
+    Lc: float = spec(0.03, "m", "two-link model: joint (hook) to robot centre; sets I2 with Ld", 0.0, 0.3)
+    Ld: float = spec(0.06, "m", "two-link model: joint (hook) to bottom of torso; sets I2 with Lc", 0.0, 0.5, lo_open=True)
+    h: float = spec(0.005, "m", "counterbalance offset normal to the frame", -0.1, 0.1)
+    m1: float = spec(0.004, "kg", "swing frame mass (I1 = 2*m1/3*(La^2+Lb^2-La*Lb))", 0.0, 0.1, lo_open=True)
     m2: float = spec(0.00771, "kg", "robot mass as Table 1 counts it: torso card + coins + arm + the handrail "
-                     "(handrail_mass, which the world puts on the frame)", 0.0, 10.0, lo_open=True)
-    m3: float = spec(0.0072, "kg", "counterbalance mass (point mass at (La, h))", 0.0, 10.0, lo_open=True)
-    dT: float = spec(0.0, "N·m", "frame's own moment at theta1 = 0 without robot and counterbalance", -1.0, 1.0)
-    spring_k: float = spec(8.77e-4, "N·m/rad", "leaf-spring stiffness (torque = k·(alpha - alpha_min))", 0.0, 10.0, lo_open=True)
+                     "(handrail_mass, which the world puts on the frame)", 0.0, 0.1, lo_open=True)
+    m3: float = spec(0.0072, "kg", "counterbalance mass (point mass at (La, h))", 0.0, 0.1, lo_open=True)
+    dT: float = spec(0.0, "N·m", "frame's own moment at theta1 = 0 without robot and counterbalance", -0.1, 0.1)
+    spring_k: float = spec(8.77e-4, "N·m/rad", "leaf-spring stiffness (torque = k·(alpha - alpha_min))", 0.0, 0.1, lo_open=True)
     mu_s: float = spec(0.542, "-", "static friction, arm tip on handrail", 0.0, 10.0)
     mu_k: float = spec(0.409, "-", "kinetic friction, arm tip on handrail (<= mu_s)", 0.0, 10.0)
-    arm_length: float = spec(0.03, "m", "arm: torso axle to hook tip", 0.0, 1.0, lo_open=True)
-    arm_mass: float = spec(0.0015, "kg", "arm mass (part of m2), a uniform rod", 0.0, 10.0, lo_open=True)
-    torso_length: float = spec(0.0874, "m", "torso card strip, from the axle down (fitted: docs/physics.md)", 0.0, 1.0, lo_open=True)
-    coin_mass: float = spec(0.004, "kg", "coins on the torso (part of m2; four 1-yen coins of 1 g)", 0.0, 10.0)
+    arm_length: float = spec(0.03, "m", "arm: torso axle to hook tip", 0.0, 0.3, lo_open=True)
+    arm_mass: float = spec(0.0015, "kg", "arm mass (part of m2), a uniform rod", 0.0, 0.1, lo_open=True)
+    torso_length: float = spec(0.0874, "m", "torso card strip, from the axle down (fitted: docs/physics.md)", 0.0, 0.5, lo_open=True)
+    coin_mass: float = spec(0.004, "kg", "coins on the torso (part of m2; four 1-yen coins of 1 g)", 0.0, 0.1)
     coin_radius: float = spec(0.01, "m", "coin radius (a 1-yen coin is 20 mm across)", 0.0, 0.1)
-    coin_offset: float = spec(0.0869, "m", "axle to the coins' centre, along the torso (fitted: docs/physics.md)", 0.0, 1.0)
+    coin_offset: float = spec(0.0869, "m", "axle to the coins' centre, along the torso (fitted: docs/physics.md)", 0.0, 0.5)
     handrail_mass: float = spec(0.00021, "kg", "the handrail's card, counted in m2 by Table 1 and carried by the "
                                 "frame at the seat (docs/physics.md: 0.21 g, not the 2.1 g the text prints)",
-                                0.0, 1.0)
+                                0.0, 0.01)
     pivot_friction: float = spec(1.0e-4, "N·m", "Coulomb friction torque of each frame's bamboo skewer in its card "
-                                 "shaft hole (0: no part built)", 0.0, 0.1)
+                                 "shaft hole (0: no part built)", 0.0, 0.01)
     axle_friction: float = spec(8.0e-6, "N·m", "Coulomb friction torque at the arm's axle in the torso (0: no part "
-                                "built)", 0.0, 0.1)
+                                "built)", 0.0, 0.01)
     alpha_min_deg: float = spec(60.0, "deg", "arm angle with the spring straight (arm snapped forward)", 0.0, 180.0)
     alpha_max_deg: float = spec(120.0, "deg", "arm angle with the spring fully bent", 0.0, 180.0)
     rest_angle_deg: float = spec(55.0, "deg", "frame angle theta1 at rest, counterbalance against the stopper", -90.0, 270.0)
@@ -93,8 +102,8 @@ class Design:
     hook_radius: float = spec(0.001, "m", "radius of the arm tip's contact edge", 0.0, 0.01, lo_open=True)
     Cd: float = spec(1.05, "-", "drag coefficient (drag effect)", 0.0, 10.0)
     rho: float = spec(1.29, "kg/m^3", "air density (drag effect)", 0.0, 100.0)
-    frame_width: float = spec(0.01, "m", "projected width of a frame, per unit length (drag effect)", 0.0, 1.0)
-    robot_width: float = spec(0.02, "m", "projected width of torso and arm (drag effect)", 0.0, 1.0)
+    frame_width: float = spec(0.01, "m", "projected width of a frame, per unit length (drag effect)", 0.0, 0.1)
+    robot_width: float = spec(0.02, "m", "projected width of torso and arm (drag effect)", 0.0, 0.1)
 
 
 @dataclass(frozen=True)
@@ -117,10 +126,10 @@ class Scene:
     """The row of frames and the start state."""
 
     frames: int = spec(8, "-", "swing frames in the row", 2, 1000)
-    pitch: float = spec(0.082, "m", "horizontal distance between neighbouring frame axes", 0.0, 1.0, lo_open=True)
-    rise: float = spec(0.002, "m", "height gained per frame (the incline of the row)", -0.5, 0.5)
+    pitch: float = spec(0.082, "m", "horizontal distance between neighbouring frame axes", 0.0, 0.5, lo_open=True)
+    rise: float = spec(0.002, "m", "height gained per frame (the incline of the row)", -0.1, 0.1)
     theta2_start_deg: float = spec(81.0, "deg", "robot line angle at the first catch (brief: 80-81)", 0.0, 180.0)
-    floor_drop: float = spec(0.15, "m", "floor depth below the axis of the frame the robot left", 0.0, 10.0, lo_open=True)
+    floor_drop: float = spec(0.15, "m", "floor depth below the axis of the frame the robot left", 0.0, 2.0, lo_open=True)
     effects: Effects = field(default_factory=Effects, metadata=dict(unit="", doc="effects switched on", lo=None,
                                                                     hi=None, lo_open=False, choices=None))
 
@@ -319,8 +328,9 @@ def _set_dotted(tree: dict, key: str, value: Any) -> None:
         return
     parts = key.split(".")
     if len(parts) < 2 or parts[0] not in SECTIONS:
+        hint = did_you_mean(key, [r[0] for r in schema_rows() if "[]" not in r[0]] + list(LIST_SECTIONS))
         raise ConfigError(f"override key {key!r}: must start with one of {sorted(SECTIONS)} (e.g. design.m2), "
-                          f"or be one of {sorted(LIST_SECTIONS)}")
+                          f"or be one of {sorted(LIST_SECTIONS)}{hint}")
     node = tree
     for p in parts[:-1]:
         child = node.setdefault(p, {})
@@ -341,33 +351,52 @@ def _check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
         if not isinstance(value, str) or (meta["choices"] and value not in meta["choices"]):
             raise ConfigError(f"{path} = {value!r}: must be one of {list(meta['choices'])}")
         return value
-    value = _yaml_number(value)
+    raw = value
+    value, plain = _with_unit(path, value, meta["unit"])
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ConfigError(f"{path} = {value!r}: must be a number ({typ.__name__}) in {_range_text(meta)}")
+        units = quantities.units_for(meta["unit"])
+        with_units = f", optionally with a unit ({', '.join(units)})" if len(units) > 1 else ""
+        raise ConfigError(f"{path} = {value!r}: must be a number ({typ.__name__}) in {_range_text(meta)}{with_units}")
+    shown = repr(value) if plain else f"{raw!r} (= {value:.6g} {meta['unit']})"
     if typ is int:
         if isinstance(value, float) and not value.is_integer():
-            raise ConfigError(f"{path} = {value!r}: must be a whole number in {_range_text(meta)}")
+            raise ConfigError(f"{path} = {shown}: must be a whole number in {_range_text(meta)}")
         value = int(value)
     else:
         value = float(value)
+    if plain:
+        shown = repr(value)
     if not math.isfinite(value):
-        raise ConfigError(f"{path} = {value!r}: must be finite, in {_range_text(meta)}")
+        raise ConfigError(f"{path} = {shown}: must be finite, in {_range_text(meta)}")
+    if not _in_range(meta, value):
+        hint = quantities.smaller_unit_hint(value, meta["unit"], lambda v: _in_range(meta, v)) if plain else ""
+        raise ConfigError(f"{path} = {shown}: out of range, allowed {_range_text(meta)}{hint}")
+    return value
+
+
+def _in_range(meta: Mapping[str, Any], value: float) -> bool:
     lo, hi = meta["lo"], meta["hi"]
     if lo is not None and (value < lo or (meta["lo_open"] and value == lo)):
-        raise ConfigError(f"{path} = {value!r}: out of range, allowed {_range_text(meta)}")
-    if hi is not None and value > hi:
-        raise ConfigError(f"{path} = {value!r}: out of range, allowed {_range_text(meta)}")
-    return value
+        return False
+    return hi is None or value <= hi
 
 
-def _yaml_number(value: Any) -> Any:
-    """YAML 1.1 reads 1e-9 (no dot) as a string: read such a string as the number it spells."""
-    if isinstance(value, str):
-        try:
-            return float(value)
-        except ValueError:
-            pass
-    return value
+def _with_unit(path: str, value: Any, unit: str) -> tuple[Any, bool]:
+    """``value`` as a number in ``unit`` when it is a string that spells one (``"7.71 g"``, or ``"1e-9"``,
+    which YAML 1.1 reads as a string), and whether it was a plain number (no unit named)."""
+    if not isinstance(value, str):
+        return value, True
+    try:
+        number = quantities.parse(value, unit)
+    except quantities.UnitError as exc:
+        raise ConfigError(f"{path} = {value!r}: {exc}") from None
+    if number is None:
+        return value, True
+    try:
+        float(value)
+        return number, True
+    except ValueError:
+        return number, False
 
 
 def _range_text(meta: Mapping[str, Any]) -> str:
@@ -375,6 +404,28 @@ def _range_text(meta: Mapping[str, Any]) -> str:
     left = "(" if meta["lo_open"] else "["
     u = f" {unit}" if unit and unit != "-" else ""
     return f"{left}{lo}, {hi}]{u}"
+
+
+def did_you_mean(name: Any, candidates, prefix: str = "") -> str:
+    """"; did you mean PREFIXkey?" naming the candidate closest to ``name`` (difflib; case ignored), or ""."""
+    by_lower: dict[str, str] = {}
+    for c in candidates:
+        by_lower.setdefault(str(c).lower(), str(c))
+    text = str(name).lower()
+    if text in by_lower:
+        return f"; did you mean {prefix}{by_lower[text]}?"
+    close = difflib.get_close_matches(text, list(by_lower), n=1, cutoff=0.6)
+    return f"; did you mean {prefix}{by_lower[close[0]]}?" if close else ""
+
+
+def _unknown_key(where: str, name: Any, known, prefix: str = "") -> ConfigError:
+    """An unknown key: the closest known one, else the keys themselves when few, else where to find them."""
+    known = sorted(map(str, known))
+    hint = did_you_mean(name, known, prefix)
+    if not hint:
+        hint = (f"; allowed keys are {known}" if len(known) <= 8 else
+                f"; none is close among its {len(known)} keys (aero-env schema lists them)")
+    return ConfigError(f"{where}: unknown key{hint}")
 
 
 def _build(cls, data: Any, path: str):
@@ -385,7 +436,7 @@ def _build(cls, data: Any, path: str):
     known = {f.name: f for f in fields(cls)}
     unknown = sorted(map(str, set(data) - set(known)))
     if unknown:
-        raise ConfigError(f"{path}.{unknown[0]}: unknown key; allowed keys are {sorted(known)}")
+        raise _unknown_key(f"{path}.{unknown[0]}", unknown[0], known, f"{path}.")
     kwargs = {}
     for name, f in known.items():
         if name not in data:
@@ -419,8 +470,9 @@ def _check_design(d: Design) -> None:
                           f"[0, {d.torso_length}] m (design.torso_length)")
     parts = d.arm_mass + d.coin_mass + d.handrail_mass
     if parts >= d.m2:
+        hi = Design.__dataclass_fields__["m2"].metadata["hi"]
         raise ConfigError(f"design.m2 = {d.m2!r}: must exceed its listed parts arm_mass + coin_mass + handrail_mass "
-                          f"= {parts:.6g} kg (the torso card is the rest), allowed ({parts:.6g}, 10] kg")
+                          f"= {parts:.6g} kg (the torso card is the rest), allowed ({parts:.6g}, {hi:g}] kg")
 
 
 def from_dict(data: Mapping[str, Any] | None, overrides: Mapping[str, Any] | None = None) -> Config:
@@ -433,7 +485,9 @@ def from_dict(data: Mapping[str, Any] | None, overrides: Mapping[str, Any] | Non
     _apply_fidelity(tree, overrides or {})
     unknown = sorted(map(str, set(tree) - set(SECTIONS) - set(LIST_SECTIONS)))
     if unknown:
-        raise ConfigError(f"{unknown[0]}: unknown section; allowed sections are {sorted(SECTIONS | LIST_SECTIONS)}")
+        hint = did_you_mean(unknown[0], SECTIONS | LIST_SECTIONS)
+        raise ConfigError(f"{unknown[0]}: unknown section{hint}; allowed sections are "
+                          f"{sorted(SECTIONS | LIST_SECTIONS)}")
     sections = {name: _build(cls, tree.get(name), name) for name, cls in SECTIONS.items()}
     lists = {name: _build_list(name, tree[name]) for name in LIST_SECTIONS if name in tree}
     cfg = Config(**sections, **lists)
@@ -475,10 +529,16 @@ def real_field(key: Any, where: str) -> dataclasses.Field:
     known = {f.name: f for f in fields(cls)} if cls else {}
     f = known.get(name)
     if f is None or f.type not in (float, "float"):
-        choices = [f"design.{f.name}" for f in fields(Design)] + [f"scene.{f.name}" for f in fields(Scene)
-                                                                   if f.type in (float, "float")]
-        raise ConfigError(f"{where} = {key!r}: not a real-valued design or scene field; allowed: {', '.join(choices)}")
+        choices = real_keys()
+        hint = did_you_mean(key, choices) or f" (aero-env schema lists the {len(choices)} of them)"
+        raise ConfigError(f"{where} = {key!r}: not a real-valued design or scene field{hint}")
     return f
+
+
+def real_keys() -> list[str]:
+    """Every real-valued ``design.*`` and ``scene.*`` key (what tunable, context and tolerance entries name)."""
+    return [f"design.{f.name}" for f in fields(Design) if f.type in (float, "float")] + \
+        [f"scene.{f.name}" for f in fields(Scene) if f.type in (float, "float")]
 
 
 def _build_list(section: str, data: Any) -> tuple:
@@ -495,7 +555,7 @@ def _build_list(section: str, data: Any) -> tuple:
         allowed = {f.name for f in fields(cls)}
         extra = sorted(map(str, set(entry) - allowed))
         if extra:
-            raise ConfigError(f"{where}.{extra[0]}: unknown key; allowed keys are {sorted(allowed)}")
+            raise _unknown_key(f"{where}.{extra[0]}", extra[0], allowed)
         if "name" not in entry:
             raise ConfigError(f"{where}.name: missing; the dotted key of the field, e.g. design.m3")
         f = real_field(entry["name"], f"{where}.name")
@@ -549,10 +609,12 @@ def _context(entry, where, name, f) -> ContextRange:
 
 def _tolerance(entry, where, name, f) -> Tolerance:
     out = {}
-    for key, hi in (("relative", 0.5), ("absolute", math.inf)):
-        v = _yaml_number(entry.get(key, 0.0))
+    unit = f.metadata["unit"]
+    for key, hi, u in (("relative", 0.5, "-"), ("absolute", math.inf, unit)):
+        v, _ = _with_unit(f"{where}.{key} (a tolerance of {name})", entry.get(key, 0.0), u)
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0.0 <= v <= hi) or not math.isfinite(v):
-            raise ConfigError(f"{where}.{key} = {v!r}: must be a finite number in [0, {hi}]")
+            in_unit = f" {u}" if u != "-" else ""
+            raise ConfigError(f"{where}.{key} = {v!r}: must be a finite number in [0, {hi}]{in_unit}")
         out[key] = float(v)
     return Tolerance(name, **out)
 
@@ -595,20 +657,44 @@ def _deep_copy(x: Any) -> Any:
 
 
 def read_yaml(path: str | Path, what: str) -> Any:
-    """The YAML document in ``path``; a one-line ConfigError naming ``what`` (e.g. "config file") and the
-    file when it is missing or not YAML."""
+    """The YAML document in ``path`` (None for an empty file); a one-line ConfigError naming ``what`` (e.g.
+    "config file") and the file when it is missing, a folder, unreadable or not YAML (with the line)."""
     p = Path(path)
+    if p.is_dir():
+        raise ConfigError(f"{what} {str(p)!r}: is a folder; give a YAML file (e.g. configs/paper.yaml)")
     if not p.is_file():
         raise ConfigError(f"{what} {str(p)!r}: not found")
     try:
-        return yaml.safe_load(p.read_text())
+        text = p.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise ConfigError(f"{what} {str(p)!r}: not a text file; expected YAML") from None
+    except OSError as exc:
+        raise ConfigError(f"{what} {str(p)!r}: cannot be read ({exc.strerror or exc})") from None
+    try:
+        return yaml.safe_load(text)
     except yaml.YAMLError as exc:
-        raise ConfigError(f"{what} {str(p)!r}: not valid YAML ({' '.join(str(exc).split())})") from None
+        mark = getattr(exc, "problem_mark", None)
+        where = f", line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+        why = getattr(exc, "problem", None) or str(exc)
+        context, start = getattr(exc, "context", None), getattr(exc, "context_mark", None)
+        if context:
+            since = f" from line {start.line + 1}" if start is not None and mark is not None and \
+                start.line != mark.line else ""
+            why = f"{why} ({context}{since})"
+        raise ConfigError(f"{what} {str(p)!r}{where}: not valid YAML: {' '.join(str(why).split())}") from None
 
 
 def load_config(path: str | Path | None = None, overrides: Mapping[str, Any] | None = None) -> Config:
     """Load a YAML scene config (or the defaults when ``path`` is None) and apply overrides."""
-    data = (read_yaml(path, "config file") or {}) if path is not None else {}
+    if path is None:
+        return from_dict({}, overrides)
+    data = read_yaml(path, "config file")
+    if data is None:
+        raise ConfigError(f"config file {str(path)!r}: empty; a config is a YAML mapping of sections "
+                          f"({', '.join([*SECTIONS, *LIST_SECTIONS])}), e.g. configs/paper.yaml")
+    if not isinstance(data, Mapping):
+        raise ConfigError(f"config file {str(path)!r}: must be a YAML mapping of sections "
+                          f"({', '.join([*SECTIONS, *LIST_SECTIONS])}), got a {type(data).__name__}")
     return from_dict(data, overrides)
 
 

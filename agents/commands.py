@@ -1,8 +1,10 @@
 """The agents' ``aero-env`` subcommands: ``tune``, ``train`` and ``evaluate``.
 
 They plug into ``aero-env`` through the ``aero_env.commands`` entry point (pyproject.toml), so
-the physics package never imports the agents. Heavy imports (Optuna, torch) happen only when a
-command runs.
+the physics package never imports the agents, and they read their scene and check their output
+paths with :mod:`aero_env.scene_args`, not through the command line's module. Heavy imports
+(Optuna, torch) happen only when a command runs. Every option is checked before the first trial
+or training step; Ctrl-C ends with one line saying what was kept and how to go on (exit 130).
 """
 
 from __future__ import annotations
@@ -11,10 +13,17 @@ import json
 import sys
 from pathlib import Path
 
+from aero_env.config import FIDELITY_PRESETS
+from aero_env.scene_args import PLOT_SUFFIXES, YAML_SUFFIXES, check_output, load_scene
+
+from .options import ALGOS, SAMPLERS
+
+INTERRUPTED = 130  # the shell's status for a process ended by SIGINT
+
 
 def register(sub, scene_command) -> None:
     tp = scene_command(sub, "tune", "search the design space with Optuna (CMA-ES, TPE or random search)")
-    tp.add_argument("--sampler", default="cmaes", help="cmaes (default), tpe, or random (the baseline)")
+    tp.add_argument("--sampler", default="cmaes", choices=SAMPLERS, help="the search: random is the baseline")
     tp.add_argument("--trials", type=int, default=200,
                     help="the study's target number of finished trials (a resumed study runs the rest)")
     tp.add_argument("--seeds-per-design", type=int, default=1, metavar="K",
@@ -25,61 +34,77 @@ def register(sub, scene_command) -> None:
                     "(default: memory; sqlite:///aero-env-tune.db with --study or --workers > 1)")
     tp.add_argument("--study", metavar="NAME", help="study name; an existing study resumes "
                     "(default: CONFIG-SAMPLER-sSEED)")
-    tp.add_argument("--workers", type=int, default=1, help="local processes sharing the study (default 1)")
+    tp.add_argument("--workers", type=int, default=1, help="local processes sharing the study")
     tp.add_argument("--out", default="best.yaml", metavar="FILE.yaml",
-                    help="write the best design as a complete config (default best.yaml)")
+                    help="write the best design as a complete config; its folder must exist")
     tp.add_argument("--plot", metavar="FILE.png", help="optimisation-history plot (default: next to --out, "
                     "NAME_history.png)")
     tp.add_argument("--no-progress", action="store_true", help="no progress bar")
-    tp.add_argument("--screen", metavar="FIDELITY", help="multi-fidelity: score --screen-designs random designs at "
-                    "this cheap fidelity first (reduced: one vectorised batch), then confirm the best --trials of them "
-                    "at the config's own fidelity")
-    tp.add_argument("--screen-designs", type=int, default=20000, metavar="M",
-                    help="designs the screen scores (default 20000)")
+    tp.add_argument("--screen", metavar="FIDELITY", choices=tuple(FIDELITY_PRESETS),
+                    help="multi-fidelity: score --screen-designs random designs at this cheap fidelity first "
+                         "(reduced: one vectorised batch), then confirm the best --trials of them at the config's own "
+                         f"fidelity; one of {', '.join(FIDELITY_PRESETS)} (absent: no screen)")
+    tp.add_argument("--screen-designs", type=int, default=20000, metavar="M", help="designs the screen scores")
     tp.set_defaults(func=cmd_tune)
 
     rp = scene_command(sub, "train", "train a policy that maps the scene's context to a design (stable-baselines3)")
-    rp.add_argument("--algo", default="ppo", help="ppo (default) or sac")
-    rp.add_argument("--timesteps", type=int, default=2000, help="environment steps = episodes = designs tried")
+    rp.add_argument("--algo", default="ppo", choices=ALGOS, help="the RL algorithm")
+    rp.add_argument("--timesteps", type=int, default=2000,
+                    help="environment steps = episodes = designs tried (with --resume: the run's total)")
     rp.add_argument("--n-envs", type=int, default=1, help="environments stepped together (>1: one process each)")
-    rp.add_argument("--seed", type=int, default=0)
+    rp.add_argument("--seed", type=int, default=0, help="seed of the policy and of the training episodes")
     rp.add_argument("--eval-every", type=int, default=500, metavar="STEPS",
                     help="timesteps between periodic evaluations (0: none)")
     rp.add_argument("--hp", action="append", metavar="KEY=VALUE",
-                    help="override a hyper-parameter of agents.rl.ALGO_DEFAULTS (repeatable)")
-    rp.add_argument("--out", default="runs/policy", metavar="DIR", help="the run's directory (default runs/policy)")
+                    help="override a hyper-parameter of agents.rl.ALGO_DEFAULTS, checked against its type and range "
+                         "(agents.rl.HP_SPECS; repeatable), e.g. --hp learning_rate=1e-3")
+    rp.add_argument("--out", default="runs/policy", metavar="DIR",
+                    help="the run's folder: new or empty (made with its parents)")
+    rp.add_argument("--overwrite", action="store_true", help="replace the run already in --out (its files are removed)")
+    rp.add_argument("--resume", action="store_true",
+                    help="go on with the run in --out (stopped by Ctrl-C, or finished: up to --timesteps in all), with "
+                         "the same CONFIG, --set, --algo, --n-envs, --seed, --eval-every and --hp")
     rp.add_argument("--no-progress", action="store_true", help="no progress bar")
     rp.set_defaults(func=cmd_train)
 
     ep = sub.add_parser("evaluate", help="the trained policy's reward over episode seeds (mean and spread)")
     ep.add_argument("run_dir", metavar="DIR", help="a directory written by aero-env train")
-    ep.add_argument("--episodes", type=int, default=20)
-    ep.add_argument("--seed", type=int, default=0, help="first episode seed (default 0)")
-    ep.add_argument("--json", action="store_true")
+    ep.add_argument("--episodes", type=int, default=20, help="episodes, one per seed")
+    ep.add_argument("--seed", type=int, default=0, help="first episode seed")
+    ep.add_argument("--json", action="store_true", help="print one JSON object instead of the summary")
     ep.set_defaults(func=cmd_evaluate)
 
 
 def cmd_tune(args) -> int:
-    from aero_env.cli import load_scene
+    from .tune import TuneInterrupted, TuneSettings, plot_history, redact, summary_lines, tune, write_best_yaml
 
-    from .tune import TuneSettings, plot_history, summary_lines, tune, write_best_yaml
-
-    cfg = load_scene(args)
+    out = Path(args.out)
+    plot = Path(args.plot) if args.plot else out.with_name(f"{out.stem}_history.png")
+    check_output(out, "--out", YAML_SUFFIXES)
+    check_output(plot, "--plot" if args.plot else "--plot (next to --out)", PLOT_SUFFIXES)
     settings = TuneSettings(sampler=args.sampler, trials=args.trials, seeds_per_design=args.seeds_per_design,
                             seed=args.seed, storage=args.storage, study=args.study, workers=args.workers,
                             progress=not args.no_progress, screen=args.screen,
                             screen_designs=args.screen_designs).check()
+    cfg = load_scene(args)
     try:
         result = tune(cfg, settings, config_name=Path(args.config).stem)
-    except KeyboardInterrupt:
-        url = settings.resolved_storage()
-        how = ("an in-memory study is lost; give --storage sqlite:///FILE.db --study NAME to make one you can resume"
-               if url == "memory" else f"rerun the same command (--storage {url} --study "
-               f"{settings.study_name(Path(args.config).stem)}) to resume")
-        print(f"aero-env tune: interrupted; {how}", file=sys.stderr)
-        return 130
-    out = Path(args.out)
-    plot = Path(args.plot) if args.plot else out.with_name(f"{out.stem}_history.png")
+    except TuneInterrupted as stop:
+        kept = "no trial had finished, so no design was written"
+        if stop.result is not None:
+            write_best_yaml(cfg, stop.result, out)
+            plot_history(stop.result, plot)
+            kept = (f"the best so far (reward {stop.result.best_reward:.4g}, trial {stop.result.best_trial}) is in "
+                    f"{out}")
+        if stop.storage == "memory":
+            how = ("the study was in memory and is gone: to tune with a study you can resume, give --storage "
+                   "sqlite:///aero-env-tune.db (or --study NAME)")
+        else:
+            how = (f"its finished trials are kept in study {stop.study!r} ({redact(stop.storage)}): rerun the same "
+                   f"command to resume")
+        print(f"aero-env tune: interrupted after {stop.finished} of {stop.target} trials; {kept}; {how}",
+              file=sys.stderr)
+        return INTERRUPTED
     write_best_yaml(cfg, result, out)
     plot_history(result, plot)
     if args.json:
@@ -91,16 +116,23 @@ def cmd_tune(args) -> int:
 
 
 def cmd_train(args) -> int:
-    from aero_env.cli import load_scene
     from aero_env.config import parse_override
 
-    from .rl import TrainSettings, train
+    from .rl import TrainInterrupted, TrainSettings, check_run_dir, train
 
-    cfg = load_scene(args)
     hp = dict(parse_override(t) for t in args.hp or [])
     settings = TrainSettings(algo=args.algo, timesteps=args.timesteps, n_envs=args.n_envs, seed=args.seed,
                              eval_every=args.eval_every, hyperparameters=hp, progress=not args.no_progress).check()
-    run = train(cfg, settings, args.out)
+    check_run_dir(args.out, args.overwrite, args.resume)
+    cfg = load_scene(args)
+    try:
+        run = train(cfg, settings, args.out, overwrite=args.overwrite, resume=args.resume)
+    except TrainInterrupted as stop:
+        r = stop.run
+        print(f"aero-env train: interrupted at {r['timesteps_done']} of {r['timesteps']} timesteps; kept the policy so "
+              f"far and its curves in {args.out} (aero-env evaluate {args.out} scores it); resume: rerun the same "
+              f"command with --resume", file=sys.stderr)
+        return INTERRUPTED
     if args.json:
         print(json.dumps({**run, "out": args.out}, indent=2))
     else:

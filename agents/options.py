@@ -6,6 +6,11 @@ from typing import Any, Iterable
 
 from aero_env.config import ConfigError
 
+# The fixed choices of the agents' options, here so that the command line can offer them without
+# importing Optuna or torch.
+SAMPLERS = ("cmaes", "tpe", "random")
+ALGOS = ("ppo", "sac")
+
 
 def check_choice(option: str, value: Any, choices: Iterable[str]) -> None:
     choices = tuple(choices)

@@ -17,13 +17,25 @@ A training run writes to its directory ``DIR``:
 | ``learning_curve.png`` | training reward (rolling mean) and the periodic evaluations     |
 
 ``evaluate(DIR)`` runs the deterministic policy on fresh episode seeds and reports the mean and
-spread of its reward. Hyper-parameters are the documented defaults below, overridden by name.
+spread of its reward. Hyper-parameters are the documented defaults below, overridden by name;
+each override is checked against :data:`HP_SPECS` (its type and range) before anything is built.
+
+``DIR`` must be new or empty (``overwrite=True`` first removes a previous run's files, so that
+two runs never share one learning curve). A run stopped by Ctrl-C keeps what it learnt: the
+policy so far in ``model.zip`` (and SAC's replay buffer), ``run.json`` marked ``interrupted``
+with ``timesteps_done``; ``resume=True`` (``aero-env train ... --resume``) continues it up to
+``timesteps`` with the same settings, appending to its monitor files (one more per vector env,
+``r1-0.monitor.csv``, ...) and its evaluations. A resumed run is not bit-identical to one that
+was never stopped (the environments restart their episodes and PPO its rollout).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import math
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from types import SimpleNamespace
@@ -31,11 +43,10 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from aero_env.config import Config, ConfigError, from_dict, load_config
+from aero_env.config import Config, ConfigError, did_you_mean, from_dict, load_config
+from aero_env.scene_args import check_output_dir
 
-from .options import check_choice, check_ints
-
-ALGOS = ("ppo", "sac")
+from .options import ALGOS, check_choice, check_ints
 
 # Every step is a whole episode, so there is nothing to discount or bootstrap: gamma is moot and
 # small rollouts/batches suit the few thousand (slow) episodes a design study can afford. PPO's
@@ -47,6 +58,20 @@ ALGO_DEFAULTS: dict[str, dict[str, Any]] = {
     "sac": dict(learning_rate=3e-4, buffer_size=100_000, learning_starts=100, batch_size=64, gamma=0.0,
                 train_freq=1, gradient_steps=1, policy_kwargs=dict(net_arch=[64, 64])),
 }
+# What ``--hp`` may set, per algorithm: (type, low, high, low excluded). Ranges are SB3's own
+# constraints (PPO's batch_size > 1, rates and discounts in [0, 1]) or, for counts, bounds past which
+# the value is surely a slip. ``policy_kwargs`` is a mapping (net_arch: a list of layer widths).
+_COMMON_HP = dict(learning_rate=(float, 0.0, 1.0, True), gamma=(float, 0.0, 1.0, False),
+                  policy_kwargs=(dict, None, None, False))
+HP_SPECS: dict[str, dict[str, tuple]] = {
+    "ppo": dict(_COMMON_HP, n_steps=(int, 1, 10**7, False), batch_size=(int, 2, 10**7, False),
+                n_epochs=(int, 1, 10**4, False), gae_lambda=(float, 0.0, 1.0, False),
+                ent_coef=(float, 0.0, 1.0, False), clip_range=(float, 0.0, 1.0, True)),
+    "sac": dict(_COMMON_HP, buffer_size=(int, 1, 10**8, False), learning_starts=(int, 0, 10**9, False),
+                batch_size=(int, 1, 10**7, False), train_freq=(int, 1, 10**6, False),
+                gradient_steps=(int, 1, 10**4, False)),
+}
+RUN_FILES = ("model.zip", "config.yaml", "run.json", "evaluations.npz", "learning_curve.png", "replay_buffer.pkl")
 EVAL_EPISODES = 10         # episodes per periodic evaluation
 EVAL_SEED_OFFSET = 10_000  # evaluation seeds start here, away from the training envs' seeds
 
@@ -65,14 +90,109 @@ class TrainSettings:
         check_choice("algo", self.algo, ALGOS)
         check_ints(self, (("timesteps", 1, 10**9), ("n_envs", 1, 256), ("eval_every", 0, 10**9),
                           ("seed", 0, 2**31 - 1)))
-        unknown = set(self.hyperparameters or {}) - set(ALGO_DEFAULTS[self.algo])
-        if unknown:
-            raise ConfigError(f"--hp {sorted(unknown)}: not a {self.algo} hyper-parameter here; allowed: "
-                              f"{', '.join(ALGO_DEFAULTS[self.algo])}")
-        return self
+        hp = {}
+        for name, value in (self.hyperparameters or {}).items():
+            if name not in ALGO_DEFAULTS[self.algo]:
+                hint = did_you_mean(name, ALGO_DEFAULTS[self.algo]).lstrip(";")
+                raise ConfigError(f"--hp {name}: not a {self.algo} hyper-parameter here;{hint or ''} allowed: "
+                                  f"{', '.join(ALGO_DEFAULTS[self.algo])}")
+            hp[name] = check_hyperparameter(self.algo, name, value)
+        if self.algo == "ppo":
+            n_steps = hp.get("n_steps", ALGO_DEFAULTS["ppo"]["n_steps"])
+            if n_steps * self.n_envs < 2:
+                raise ConfigError(f"--hp n_steps={n_steps} with --n-envs {self.n_envs}: PPO needs a rollout of at "
+                                  f"least 2 steps (n_steps x n_envs), allowed n_steps >= {math.ceil(2 / self.n_envs)}")
+        return dataclasses.replace(self, hyperparameters=hp) if self.hyperparameters is not None else self
 
     def algo_kwargs(self) -> dict[str, Any]:
         return {**ALGO_DEFAULTS[self.algo], **(self.hyperparameters or {})}
+
+
+def check_hyperparameter(algo: str, name: str, value: Any) -> Any:
+    """``value`` of ``--hp name=value`` as its type, or a ConfigError naming it, the value and the range."""
+    typ, lo, hi, lo_open = HP_SPECS[algo][name]
+    where = f"--hp {name}={value!r}"
+    if typ is dict:
+        if not isinstance(value, Mapping):
+            raise ConfigError(f"{where}: must be a mapping, e.g. policy_kwargs={{net_arch: [64, 64]}}")
+        arch = value.get("net_arch")
+        if arch is not None and not (isinstance(arch, list) and arch and all(
+                isinstance(w, int) and not isinstance(w, bool) and 1 <= w <= 4096 for w in arch)):
+            raise ConfigError(f"{where}: net_arch must be a list of layer widths, whole numbers in [1, 4096]")
+        log_std = value.get("log_std_init")
+        if log_std is not None and (isinstance(log_std, bool) or not isinstance(log_std, (int, float))
+                                    or not -20.0 <= log_std <= 2.0):
+            raise ConfigError(f"{where}: log_std_init must be a number in [-20, 2]")
+        return dict(value)
+    number = value
+    if isinstance(value, str):
+        try:
+            number = float(value)  # YAML 1.1 reads 3e-4 (no dot) as a string
+        except ValueError:
+            pass
+    kind = "a whole number" if typ is int else "a number"
+    span = f"{'(' if lo_open else '['}{lo}, {hi}]"
+    if isinstance(number, bool) or not isinstance(number, (int, float)) or not math.isfinite(number):
+        raise ConfigError(f"{where}: must be {kind} in {span} (a {algo} hyper-parameter)")
+    if typ is int:
+        if not float(number).is_integer():
+            raise ConfigError(f"{where}: must be {kind} in {span} (a {algo} hyper-parameter)")
+        number = int(number)
+    else:
+        number = float(number)
+    if number < lo or (lo_open and number == lo) or number > hi:
+        raise ConfigError(f"{where}: out of range, allowed {span} (a {algo} hyper-parameter)")
+    return number
+
+
+class TrainInterrupted(Exception):
+    """Ctrl-C during training: the run so far was saved; ``run`` is what run.json now holds."""
+
+    def __init__(self, run: dict, out: Path):
+        super().__init__(f"interrupted at {run['timesteps_done']} of {run['timesteps']} timesteps")
+        self.run, self.out = run, out
+
+
+def check_run_dir(out: str | Path, overwrite: bool = False, resume: bool = False) -> None:
+    """The run's folder before any work: new or empty, or ``overwrite``; with ``resume``, a run to go on with."""
+    out = Path(out)
+    if overwrite and resume:
+        raise ConfigError("--overwrite with --resume: choose one (start the run again, or go on with it)")
+    if not resume:
+        check_output_dir(out, "--out", overwrite, "--overwrite to start the run in it again, or --resume to go on "
+                                                  "with it")
+        return
+    missing = [name for name in ("run.json", "model.zip", "config.yaml") if not (out / name).is_file()]
+    if missing:
+        raise ConfigError(f"--resume: {str(out)!r} holds no run to go on with (no {', '.join(missing)})")
+
+
+def clear_run(out: Path) -> None:
+    """Remove a previous run's files from ``out`` (``--overwrite``); other files stay."""
+    for name in RUN_FILES:
+        (out / name).unlink(missing_ok=True)
+    for f in out.glob("*.monitor.csv"):
+        f.unlink()
+
+
+def _resume_state(cfg: Config, settings: "TrainSettings", out: Path) -> dict:
+    """The stopped run in ``out``, checked against this call: same scene and settings, more timesteps."""
+    before = json.loads((out / "run.json").read_text())
+    if load_config(out / "config.yaml") != cfg:
+        raise ConfigError(f"--resume: the run in {str(out)!r} was trained on another scene (its config.yaml); "
+                          f"give the same CONFIG and --set, or a new --out")
+    for key in ("algo", "n_envs", "seed", "eval_every"):
+        if before.get(key) != getattr(settings, key):
+            raise ConfigError(f"--{key.replace('_', '-')} {getattr(settings, key)!r}: the run in {str(out)!r} was "
+                              f"trained with {before.get(key)!r}; resume it with the same value")
+    if before.get("hyperparameters") != _jsonable(settings.algo_kwargs()):
+        raise ConfigError(f"--hp: the run in {str(out)!r} was trained with {before.get('hyperparameters')}; resume "
+                          f"it with the same --hp")
+    done = int(before.get("timesteps_done", before.get("timesteps", 0)))
+    if settings.timesteps <= done:
+        raise ConfigError(f"--timesteps {settings.timesteps}: the run in {str(out)!r} already has {done}; give more "
+                          f"to go on with it, allowed [{done + 1}, 1000000000]")
+    return dict(before, timesteps_done=done)
 
 
 def _sb3():
@@ -94,42 +214,92 @@ def make_env(cfg_dict: dict, monitor_file: str | None = None):
     return Monitor(AerialAcrobatEnv(from_dict(cfg_dict)), monitor_file)
 
 
-def _vec_env(cfg: Config, n_envs: int, seed: int, monitor_dir: Path | None):
+def _vec_env(cfg: Config, n_envs: int, seed: int, monitor_dir: Path | None, prefix: str = ""):
     from functools import partial
 
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
-    fns = [partial(make_env, cfg.to_dict(), str(monitor_dir / f"{i}") if monitor_dir else None) for i in range(n_envs)]
+    fns = [partial(make_env, cfg.to_dict(), str(monitor_dir / f"{prefix}{i}") if monitor_dir else None)
+           for i in range(n_envs)]
     venv = SubprocVecEnv(fns, start_method="spawn") if n_envs > 1 else DummyVecEnv(fns)
     venv.seed(seed)
     return venv
 
 
-def train(cfg: Config, settings: TrainSettings, out: str | Path) -> dict:
-    """Train a policy on ``cfg``'s scene and write the run's directory; returns run.json's content."""
-    settings.check()
+def _close(venv) -> None:
+    """Close a vector env whose workers may already be gone (Ctrl-C reaches them too)."""
+    try:
+        venv.close()
+    except (EOFError, OSError, BrokenPipeError):
+        pass
+
+
+def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool = False,
+          resume: bool = False) -> dict:
+    """Train a policy on ``cfg``'s scene and write the run's directory; returns run.json's content.
+
+    ``out`` must be new or empty unless ``overwrite`` (a previous run's files are removed first) or
+    ``resume`` (go on with the run stopped there). Ctrl-C saves the run so far and raises
+    :class:`TrainInterrupted`."""
+    settings = settings.check()
+    out = Path(out)
+    check_run_dir(out, overwrite, resume)
+    before = _resume_state(cfg, settings, out) if resume else None
     sb3 = _sb3()
     from stable_baselines3.common.callbacks import EvalCallback
 
-    out = Path(out)
+    if overwrite and out.is_dir():
+        clear_run(out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "config.yaml").write_text(cfg.to_yaml())
     cls = {"ppo": sb3.PPO, "sac": sb3.SAC}[settings.algo]
-    venv = _vec_env(cfg, settings.n_envs, settings.seed, out)
+    segment = before.get("segments", 1) if before else 0  # monitor files of resumed segments: r1-0, r2-0, ...
+    venv = _vec_env(cfg, settings.n_envs, settings.seed + (1000 * segment), out, f"r{segment}-" if segment else "")
     callbacks = []
     if settings.eval_every:
         eval_env = _vec_env(cfg, 1, settings.seed + EVAL_SEED_OFFSET, None)
-        callbacks.append(EvalCallback(eval_env, n_eval_episodes=EVAL_EPISODES, log_path=str(out), verbose=0,
-                                      eval_freq=max(1, settings.eval_every // settings.n_envs), warn=False))
-    model = cls("MlpPolicy", venv, seed=settings.seed, device="cpu", verbose=0, **settings.algo_kwargs())
-    t0 = time.perf_counter()
-    model.learn(settings.timesteps, callback=callbacks, progress_bar=settings.progress)
-    wall = time.perf_counter() - t0
-    model.save(out / "model.zip")
-    venv.close()
+        ev = EvalCallback(eval_env, n_eval_episodes=EVAL_EPISODES, log_path=str(out), verbose=0,
+                          eval_freq=max(1, settings.eval_every // settings.n_envs), warn=False)
+        if before and (out / "evaluations.npz").is_file():
+            old = np.load(out / "evaluations.npz")
+            ev.evaluations_timesteps = [int(t) for t in old["timesteps"]]
+            ev.evaluations_results = [list(r) for r in old["results"]]
+            ev.evaluations_length = [list(r) for r in old["ep_lengths"]]
+        callbacks.append(ev)
+    if before:
+        model = cls.load(out / "model.zip", env=venv, device="cpu")
+        model.set_random_seed(settings.seed + 1000 * segment)  # a resumed segment is seeded too
+        if settings.algo == "sac" and (out / "replay_buffer.pkl").is_file():
+            model.load_replay_buffer(out / "replay_buffer.pkl")
+        todo, wall_before = settings.timesteps - before["timesteps_done"], float(before.get("wall_time", 0.0))
+    else:
+        model = cls("MlpPolicy", venv, seed=settings.seed, device="cpu", verbose=0, **settings.algo_kwargs())
+        todo, wall_before = settings.timesteps, 0.0
     run = dict(algo=settings.algo, timesteps=settings.timesteps, n_envs=settings.n_envs, seed=settings.seed,
-               eval_every=settings.eval_every, hyperparameters=_jsonable(settings.algo_kwargs()), wall_time=wall,
-               episodes_per_second=settings.timesteps / wall)
+               eval_every=settings.eval_every, hyperparameters=_jsonable(settings.algo_kwargs()))
+    t0 = time.perf_counter()
+    try:
+        with warnings.catch_warnings():  # the evaluations run one env in-process, whatever --n-envs says
+            warnings.filterwarnings("ignore", message="Training and eval env are not of the same type")
+            model.learn(todo, callback=callbacks, progress_bar=settings.progress, reset_num_timesteps=before is None)
+    except KeyboardInterrupt:
+        wall = wall_before + time.perf_counter() - t0
+        model.save(out / "model.zip")
+        if settings.algo == "sac":
+            model.save_replay_buffer(out / "replay_buffer.pkl")
+        _close(venv)
+        run.update(timesteps_done=int(model.num_timesteps), interrupted=True, segments=segment + 1, wall_time=wall,
+                   episodes_per_second=model.num_timesteps / wall if wall > 0 else None)
+        (out / "run.json").write_text(json.dumps(run, indent=2))
+        plot_learning_curve(out, out / "learning_curve.png")
+        raise TrainInterrupted(run, out) from None
+    wall = wall_before + time.perf_counter() - t0
+    model.save(out / "model.zip")
+    (out / "replay_buffer.pkl").unlink(missing_ok=True)
+    _close(venv)
+    run.update(timesteps_done=int(model.num_timesteps), wall_time=wall, episodes_per_second=settings.timesteps / wall)
+    if before:
+        run["segments"] = segment + 1
     (out / "run.json").write_text(json.dumps(run, indent=2))
     plot_learning_curve(out, out / "learning_curve.png")
     return run
@@ -205,9 +375,15 @@ def plot_learning_curve(run_dir: str | Path, path: str | Path) -> None:
 
 
 def _monitor_rewards(run_dir: Path) -> np.ndarray:
-    """Every training episode's reward, ordered by its end time across the vector's envs."""
+    """Every training episode's reward, ordered by its end time across the vector's envs (and across the
+    segments of a resumed run: each file's times count from its own start, which its first line gives)."""
     rows = []
     for f in sorted(run_dir.glob("*.monitor.csv")):
-        lines = f.read_text().splitlines()[2:]  # a JSON comment line, then the header r,l,t
-        rows += [(float(t), float(r)) for r, _, t in (ln.split(",")[:3] for ln in lines if ln)]
+        head, _, rest = f.read_text().partition("\n")
+        try:
+            t_start = float(json.loads(head.lstrip("#")).get("t_start", 0.0))
+        except (ValueError, AttributeError):
+            t_start = 0.0
+        lines = rest.splitlines()[1:]  # the header r,l,t
+        rows += [(t_start + float(t), float(r)) for r, _, t in (ln.split(",")[:3] for ln in lines if ln)]
     return np.array([r for _, r in sorted(rows)])

@@ -22,6 +22,12 @@ its name in the trials it ran (``user_attrs["worker"]``). Runs on other machines
 same study stop once the study holds ``trials`` finished trials (each may overshoot by the
 trials it had in flight).
 
+A study records the scene it was made for (a fingerprint of the config), the seeds per design
+and the sampler: resuming it with another scene, seed count or ``--sampler`` is refused (CMA-ES
+and TPE read their state from the study's trials; another sampler would silently restart the
+search inside it). Ctrl-C raises :class:`TuneInterrupted` carrying the best design of the trials
+finished so far; a study in a database keeps them and resumes by rerunning the same command.
+
 With one worker and a fixed ``seed`` a study is reproducible; with several, the order in which
 trials finish (and so what the sampler learns when) depends on timing.
 
@@ -37,6 +43,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import logging
 import multiprocessing as mp
 import os
 import socket
@@ -44,7 +51,7 @@ import time
 import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Callable, Mapping
+from typing import Callable
 
 import numpy as np
 
@@ -52,9 +59,8 @@ from aero_env.config import FIDELITY_PRESETS, Config, ConfigError, from_dict
 from aero_env.design_space import DesignSpace
 
 from .design_eval import DesignEvaluator
-from .options import check_choice, check_ints
+from .options import SAMPLERS, check_choice, check_ints
 
-SAMPLERS = ("cmaes", "tpe", "random")
 DEFAULT_FILE_STORAGE = "sqlite:///aero-env-tune.db"  # used when a study must outlive the process
 HEARTBEAT_S = 10          # a trial's process marks it alive this often (RDB storages) ...
 GRACE_S = 60              # ... and a trial silent this long is failed when the study resumes
@@ -143,12 +149,36 @@ def redact(url: str) -> str:
 
 # ---- Optuna pieces ----
 
+class _QuietInterrupts(logging.Filter):
+    """Ctrl-C fails the running trial, which Optuna logs as a warning with a traceback (and then its value,
+    None); :class:`TuneInterrupted` says it in one line instead. Other failures are logged as before."""
+
+    def __init__(self):
+        super().__init__()
+        self.trial: str | None = None
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if record.exc_info and isinstance(record.exc_info[1], KeyboardInterrupt):
+            self.trial = record.getMessage().split(" ", 2)[1]  # "Trial N failed with parameters: ..."
+            return False
+        if self.trial is not None and record.getMessage().startswith(f"Trial {self.trial} failed with value"):
+            self.trial = None
+            return False
+        return True
+
+
+_QUIET = _QuietInterrupts()
+
+
 def _optuna():
     try:
         import optuna
     except ImportError:
         raise ConfigError("aero-env tune needs Optuna: pip install -e '.[tune]'") from None
     optuna.logging.set_verbosity(optuna.logging.WARNING)
+    trials_log = logging.getLogger("optuna.study._optimize")
+    if _QUIET not in trials_log.filters:
+        trials_log.addFilter(_QUIET)
     return optuna
 
 
@@ -191,10 +221,15 @@ def _load_study(cfg: Config, settings: TuneSettings, storage, name: str, sampler
                                 load_if_exists=True)
     mark = study.user_attrs.get("config_fingerprint")
     fp = config_fingerprint(cfg)
+    made_with = study.user_attrs.get("sampler")  # absent in studies made before it was recorded
     if mark is None:
         study.set_user_attr("config_fingerprint", fp)
         study.set_user_attr("config", cfg.to_dict())
         study.set_user_attr("seeds_per_design", settings.seeds_per_design)
+        study.set_user_attr("sampler", settings.sampler)
+    elif made_with is not None and made_with != settings.sampler:
+        raise ConfigError(f"--sampler {settings.sampler}: study {name!r} was run with --sampler {made_with}; "
+                          f"resume it with --sampler {made_with}, or give a new --study name")
     elif mark != fp:
         raise ConfigError(f"--study {name!r}: this study was made for another scene or design space "
                           f"(fingerprint {mark}, this config {fp}); give a new --study name")
@@ -233,14 +268,15 @@ def _worker_name(index: int) -> str:
 
 
 def _run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: int, index: int,
-                on_trial: Callable | None = None) -> list[int]:
-    """Run ``quota`` trials of the study in this process; the trial numbers it ran."""
+                on_trial: Callable | None = None, ran: list[int] | None = None) -> list[int]:
+    """Run ``quota`` trials of the study in this process; the trial numbers it ran (appended to ``ran``
+    as they finish, so that a caller interrupted meanwhile knows them)."""
     optuna = _optuna()
     evaluator = DesignEvaluator(cfg, settings.eval_seeds)
     # each worker its own sampler stream: two processes with one seed would propose the same designs
     sampler = make_sampler(settings.sampler, settings.seed + 7919 * index)
     study = _load_study(cfg, settings, storage, name, sampler)
-    ran: list[int] = []
+    ran = [] if ran is None else ran
 
     def record(study_, trial):
         ran.append(trial.number)
@@ -263,29 +299,48 @@ def _worker_main(cfg_dict: dict, settings: TuneSettings, url: str, name: str, qu
 
 # ---- the tuning run ----
 
+class TuneInterrupted(Exception):
+    """Ctrl-C during tuning. ``result``: the study's best so far (None before its first finished trial);
+    ``storage``, ``study``: where its trials are (an in-memory study ends with the process)."""
+
+    def __init__(self, result: "TuneResult | None", storage: str, study: str, finished: int, target: int):
+        super().__init__(f"interrupted after {finished} of {target} trials")
+        self.result, self.storage, self.study, self.finished, self.target = result, storage, study, finished, target
+
+
 def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> TuneResult:
-    """Run (or resume) the study; returns its best design and what this call did."""
+    """Run (or resume) the study; returns its best design and what this call did.
+
+    Ctrl-C raises :class:`TuneInterrupted` with the best design of the trials finished so far."""
     settings.check()
     url = settings.resolved_storage()
     name = settings.study_name(config_name)
     storage = open_storage(url)
     study = _load_study(cfg, settings, storage, name, make_sampler(settings.sampler, settings.seed))
     t0 = time.perf_counter()
-    if settings.screen and not study.trials:
-        screened = screen(cfg, settings)
-        for action in screened.pop("actions"):
-            study.enqueue_trial({t.name: float(a) for t, a in zip(cfg.tunable, action)})
-        study.set_user_attr("screen", screened)
-    done = len(_complete(study))
-    remaining = max(0, settings.trials - done)
     workers: list[dict] = []
-    with _Progress(settings.trials, done, enabled=settings.progress and remaining > 0) as bar:
-        if remaining and settings.workers == 1:
-            ran = _run_trials(cfg, settings, storage, name, remaining, 0,
-                              on_trial=lambda s, t: bar.update(s))
-            workers.append(dict(worker=_worker_name(0), trials=ran))
-        elif remaining:
-            workers = _run_workers(cfg, settings, url, name, remaining, study, bar)
+    try:
+        if settings.screen and not study.trials:
+            screened = screen(cfg, settings)
+            for action in screened.pop("actions"):
+                study.enqueue_trial({t.name: float(a) for t, a in zip(cfg.tunable, action)})
+            study.set_user_attr("screen", screened)
+        done = len(_complete(study))
+        remaining = max(0, settings.trials - done)
+        with _Progress(settings.trials, done, enabled=settings.progress and remaining > 0) as bar:
+            if remaining and settings.workers == 1:
+                ran: list[int] = []
+                workers.append(dict(worker=_worker_name(0), trials=ran))
+                _run_trials(cfg, settings, storage, name, remaining, 0, on_trial=lambda s, t: bar.update(s), ran=ran)
+            elif remaining:
+                workers = _run_workers(cfg, settings, url, name, remaining, study, bar)
+    except KeyboardInterrupt:
+        wall = time.perf_counter() - t0
+        try:
+            partial = _result(cfg, study, settings, url, name, wall, workers)
+        except RuntimeError:  # no trial finished yet
+            partial = None
+        raise TuneInterrupted(partial, url, name, len(_complete(study)), settings.trials) from None
     wall = time.perf_counter() - t0
     return _result(cfg, study, settings, url, name, wall, workers)
 
@@ -300,13 +355,20 @@ def _run_workers(cfg, settings, url, name, remaining, study, bar) -> list[dict]:
     for p in procs:
         p.start()
     reports = []
-    while len(reports) < n:
-        try:
-            reports.append(queue.get(timeout=0.5))
-        except Exception:  # queue.Empty: nothing yet; refresh the bar from the shared storage
-            if not any(p.is_alive() for p in procs) and queue.empty():
-                break
-        bar.update(study)
+    try:
+        while len(reports) < n:
+            try:
+                reports.append(queue.get(timeout=0.5))
+            except Exception:  # queue.Empty: nothing yet; refresh the bar from the shared storage
+                if not any(p.is_alive() for p in procs) and queue.empty():
+                    break
+            bar.update(study)
+    except KeyboardInterrupt:  # Ctrl-C reaches the workers too; stop any that is still running
+        for p in procs:
+            p.terminate()
+        for p in procs:
+            p.join()
+        raise
     for p in procs:
         p.join()
     failed = [(w, err) for _, w, _, err in reports if err]

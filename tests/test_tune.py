@@ -161,7 +161,7 @@ def test_cli_tune_json_yaml_and_plot(tmp_path):
 
 
 @pytest.mark.parametrize("args, words", [
-    (["--sampler", "grid"], ["--sampler", "'grid'", "cmaes, tpe, random"]),
+    (["--sampler", "grid"], ["--sampler", "'grid'", "cmaes", "tpe", "random"]),
     (["--trials", "0"], ["--trials", "0", "[1,"]),
     (["--workers", "2", "--storage", "memory"], ["--storage memory", "--workers 2", "sqlite"]),
     (["--storage", "nowhere"], ["--storage", "'nowhere'", "postgresql://"]),

@@ -67,7 +67,9 @@ def _first_detach(swings) -> tuple[float, float]:
     return s.t_detach, s.theta1_detach_deg
 
 
-def run_fidelity(sample: DesignSample, name: str, repeats: int) -> FidelityRuns:
+def run_fidelity(sample: DesignSample, name: str, repeats: int, on_design=None) -> FidelityRuns:
+    """Every design of ``sample`` at fidelity ``name``; ``on_design(name, done, total)`` after each design
+    (after the whole batch for ``reduced``)."""
     over = fidelity_overrides(name)
     cfgs = [c.replace(over) for c in sample.configs]
     sim = cfgs[0].sim
@@ -82,8 +84,10 @@ def run_fidelity(sample: DesignSample, name: str, repeats: int) -> FidelityRuns:
         runs.theta1_detach = [float(x) for x in res.theta1_detach_deg]
         runs.sim_time = [float(x) for x in res.sim_time]
         runs.wall = [wall / len(cfgs)] * len(cfgs)
+        if on_design:
+            on_design(name, len(cfgs), len(cfgs))
         return runs
-    for cfg in cfgs:
+    for i, cfg in enumerate(cfgs):
         wall, r = median_time(lambda: simulate(cfg), repeats)
         t, th = _first_detach(r.swings)
         runs.traversals.append(r.traversals)
@@ -92,6 +96,8 @@ def run_fidelity(sample: DesignSample, name: str, repeats: int) -> FidelityRuns:
         runs.theta1_detach.append(th)
         runs.sim_time.append(r.sim_time)
         runs.wall.append(wall)
+        if on_design:
+            on_design(name, i + 1, len(cfgs))
     return runs
 
 
@@ -128,8 +134,9 @@ def summarise(runs: FidelityRuns, ref: FidelityRuns) -> dict:
 
 
 def accuracy(cfg: Config, designs: int = 50, seed: int = 0, repeats: int = 3, fidelities=None,
-             check_reference: bool = False, progress=None) -> dict:
-    """The accuracy/time table of ``fidelities`` (default: the whole ladder) on ``designs`` designs."""
+             check_reference: bool = False, progress=None, on_design=None) -> dict:
+    """The accuracy/time table of ``fidelities`` (default: the whole ladder) on ``designs`` designs;
+    ``progress(name, runs)`` after each fidelity, ``on_design(name, done, total)`` after each design."""
     check_counts(designs=designs, repeats=repeats)
     names = list(fidelities or FIDELITY_PRESETS)
     for name in names:
@@ -141,7 +148,7 @@ def accuracy(cfg: Config, designs: int = 50, seed: int = 0, repeats: int = 3, fi
     sample = draw_designs(cfg, designs, seed)
     runs = {}
     for name in names:
-        runs[name] = run_fidelity(sample, name, repeats)
+        runs[name] = run_fidelity(sample, name, repeats, on_design)
         if progress:
             progress(name, runs[name])
     ref = runs[REFERENCE]

@@ -5,38 +5,42 @@ from __future__ import annotations
 import json
 import sys
 
+from ..scene_args import PLOT_SUFFIXES, check_output, load_scene
+
 
 def register(sub, scene_command) -> None:
     bp = sub.add_parser("bench", help="what accuracy costs in time: fidelities, effects, throughput")
-    bsub = bp.add_subparsers(dest="bench", required=True)
+    bsub = bp.add_subparsers(dest="bench", required=True, metavar="BENCH")
 
     ap = scene_command(bsub, "accuracy", "every fidelity on the same random designs, against reference")
-    ap.add_argument("--designs", type=int, default=50, help="random designs from the action space (default 50)")
-    ap.add_argument("--seed", type=int, default=0, help="seed of the design draw (default 0)")
-    ap.add_argument("--repeats", type=int, default=3, help="runs per design and fidelity; the median is kept")
-    ap.add_argument("--fidelities", metavar="A,B,...", help="a subset of the ladder (reference is always added)")
+    ap.add_argument("--designs", type=int, default=50, help="random designs from the action space")
+    ap.add_argument("--seed", type=int, default=0, help="seed of the design draw")
+    ap.add_argument("--repeats", type=int, default=3, help="runs per design and fidelity; the median time is kept")
+    ap.add_argument("--fidelities", metavar="A,B,...",
+                    help="a subset of the ladder, comma-separated (absent: all of it; reference is always added)")
     ap.add_argument("--check-reference", action="store_true",
                     help="also run reference/2 (half the step, twice the iterations): is the reference converged?")
     ap.add_argument("--plot", metavar="FILE.png", help="the accuracy/time Pareto front")
     ap.set_defaults(func=cmd_accuracy)
 
     ep = scene_command(bsub, "effects", "each effect's cost in time and whether it changes outcomes")
-    ep.add_argument("--designs", type=int, default=30)
-    ep.add_argument("--seed", type=int, default=0)
-    ep.add_argument("--repeats", type=int, default=3)
+    ep.add_argument("--designs", type=int, default=30, help="random designs from the action space")
+    ep.add_argument("--seed", type=int, default=0, help="seed of the design draw")
+    ep.add_argument("--repeats", type=int, default=3, help="runs per design and effect; the median time is kept")
     ep.set_defaults(func=cmd_effects)
 
     op = scene_command(bsub, "overhead", "the Python layer's cost over bare space.step calls, piece by piece")
-    op.add_argument("--repeats", type=int, default=5)
+    op.add_argument("--repeats", type=int, default=5, help="runs of each piece; the median time is kept")
     op.set_defaults(func=cmd_overhead)
 
     tp = bsub.add_parser("throughput", help="environment episodes per second with 1 and 2 vector workers")
-    tp.add_argument("config", nargs="?", default=None, help="scene YAML (default: the prototype)")
-    tp.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a config value (repeatable)")
-    tp.add_argument("--episodes", type=int, default=40)
-    tp.add_argument("--repeats", type=int, default=3)
-    tp.add_argument("--seed", type=int, default=0)
-    tp.add_argument("--json", action="store_true")
+    tp.add_argument("config", nargs="?", default=None, help="scene YAML (absent: the prototype's defaults)")
+    tp.add_argument("--set", action="append", metavar="KEY=VALUE",
+                    help="override a config value (repeatable); a number may carry its unit, e.g. design.m2=7.71g")
+    tp.add_argument("--episodes", type=int, default=40, help="episodes per measurement")
+    tp.add_argument("--repeats", type=int, default=3, help="measurements; the median is kept")
+    tp.add_argument("--seed", type=int, default=0, help="first episode seed")
+    tp.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
     tp.set_defaults(func=cmd_throughput)
 
 
@@ -45,17 +49,39 @@ def _emit(args, report, table) -> int:
     return 0
 
 
+class DesignProgress:
+    """Progress of ``bench accuracy`` on stderr (stdout stays the table or the JSON): on a terminal a bar
+    over the designs of the fidelity being run, rewritten in place; each finished fidelity one line."""
+
+    WIDTH = 24
+
+    def __init__(self, stream=None):
+        self.stream = stream or sys.stderr
+        self.tty = self.stream.isatty()
+
+    def design(self, name: str, done: int, total: int) -> None:
+        if self.tty:
+            full = self.WIDTH * done // max(total, 1)
+            bar = "#" * full + "." * (self.WIDTH - full)
+            print(f"\r  {name:>12} [{bar}] {done}/{total} designs", end="", file=self.stream, flush=True)
+
+    def fidelity(self, name: str, runs) -> None:
+        start = "\r\033[K" if self.tty else ""
+        print(f"{start}  {name:>12}: {sum(runs.wall):.1f} s for {len(runs.wall)} designs", file=self.stream,
+              flush=True)
+
+
 def cmd_accuracy(args) -> int:
-    from ..cli import load_scene
-    from .accuracy import accuracy, plot_pareto, table
+    from .accuracy import accuracy, fidelity_overrides, plot_pareto, table
 
-    def progress(name, runs):
-        print(f"  {name}: {sum(runs.wall):.1f} s for {len(runs.wall)} designs", file=sys.stderr, flush=True)
-
-    cfg = load_scene(args)
+    check_output(args.plot, "--plot", PLOT_SUFFIXES)
     fids = [f.strip() for f in args.fidelities.split(",")] if args.fidelities else None
+    for name in fids or ():
+        fidelity_overrides(name)  # an unknown fidelity is refused before any design runs
+    cfg = load_scene(args)
+    bar = DesignProgress()
     report = accuracy(cfg, designs=args.designs, seed=args.seed, repeats=args.repeats, fidelities=fids,
-                      check_reference=args.check_reference, progress=progress)
+                      check_reference=args.check_reference, progress=bar.fidelity, on_design=bar.design)
     if args.plot:
         plot_pareto(report, args.plot)
         report["plot"] = args.plot
@@ -63,14 +89,12 @@ def cmd_accuracy(args) -> int:
 
 
 def cmd_effects(args) -> int:
-    from ..cli import load_scene
     from .effects import effects, table
 
     return _emit(args, effects(load_scene(args), designs=args.designs, seed=args.seed, repeats=args.repeats), table)
 
 
 def cmd_throughput(args) -> int:
-    from ..cli import load_scene
     from .throughput import table, throughput
 
     report = throughput(load_scene(args), episodes=args.episodes, repeats=args.repeats, seed=args.seed)
@@ -78,7 +102,6 @@ def cmd_throughput(args) -> int:
 
 
 def cmd_overhead(args) -> int:
-    from ..cli import load_scene
     from .overhead import overhead, table
 
     return _emit(args, overhead(load_scene(args), repeats=args.repeats), table)

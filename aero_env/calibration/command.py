@@ -52,7 +52,7 @@ def register(sub, scene_command) -> None:
 
 
 def cmd_calibrate(args) -> int:
-    from ..cli import load_scene
+    from ..scene_args import load_scene
 
     trials = _whole("--trials", args.trials, 1, MAX_TRIALS)
     seed = _whole("--seed", args.seed, 0, MAX_SEED)

@@ -37,7 +37,7 @@ def register(sub, scene_command) -> None:
 
 
 def cmd_cycle(args) -> int:
-    from ..cli import load_scene
+    from ..scene_args import load_scene
     from ..simulation import simulate
 
     frames, last = check_counts(args.frames, args.last)

@@ -45,7 +45,7 @@ class _Progress:
 
 
 def cmd_robustness(args) -> int:
-    from ..cli import load_scene
+    from ..scene_args import load_scene
     from .report import summarize, table
     from ..bench.designs import check_counts
     from .study import assess

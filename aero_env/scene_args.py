@@ -1,0 +1,69 @@
+"""What a command's arguments name: the scene config with its ``--set`` overrides, and the paths it writes.
+
+Every ``aero-env`` subcommand, this package's and the agents', reads its scene with
+:func:`load_scene` and checks every path it will write with :func:`check_output` (a file) or
+:func:`check_output_dir` (a run's folder) before any work starts, so that a slip in a path ends
+with one line and exit status 2 instead of a traceback after the work (``tune --out nodir/best.yaml``
+used to run all its trials first). Nothing here imports the command line.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Iterable
+
+from .config import Config, ConfigError, load_config, parse_override
+
+PLOT_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")  # what matplotlib's savefig writes by name
+YAML_SUFFIXES = (".yaml", ".yml")
+
+
+def load_scene(args) -> Config:
+    """The config a scene command names (``args.config``), with its ``--set`` overrides (``args.set``)."""
+    overrides = dict(parse_override(s) for s in getattr(args, "set", None) or [])
+    return load_config(args.config, overrides)
+
+
+def check_output(path: str | os.PathLike | None, option: str, suffixes: Iterable[str] | None = None) -> None:
+    """Refuse an output file before any work: its folder must exist and be writable, the path must not be
+    a folder, and its suffix (when ``suffixes`` is given) must be one that can be written. None passes."""
+    if path is None or str(path) == "":
+        return
+    p = Path(path)
+    folder = p.parent
+    if p.is_dir():
+        raise ConfigError(f"{option} {str(path)!r}: is a folder; give a file name")
+    if not folder.is_dir():
+        what = "is a file, not a folder" if folder.exists() else "does not exist"
+        raise ConfigError(f"{option} {str(path)!r}: folder {str(folder)!r} {what}; create it first or give "
+                          f"another path")
+    if not os.access(folder, os.W_OK):
+        raise ConfigError(f"{option} {str(path)!r}: folder {str(folder)!r} is not writable")
+    if suffixes is not None:
+        suffixes = tuple(suffixes)
+        if p.suffix.lower() not in suffixes:
+            raise ConfigError(f"{option} {str(path)!r}: suffix {p.suffix or '(none)'!r} cannot be written, "
+                              f"allowed {', '.join(suffixes)}")
+
+
+def check_output_dir(path: str | os.PathLike, option: str, overwrite: bool = False,
+                     how: str = "--overwrite to replace what is in it") -> None:
+    """Refuse a run's output folder before any work: not a file, and empty unless ``overwrite`` (a used
+    folder would mix two runs). A missing folder is fine: the run makes it, with its parents."""
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise ConfigError(f"{option} {str(path)!r}: is a file; give a folder")
+    if p.is_dir():
+        if not os.access(p, os.W_OK):
+            raise ConfigError(f"{option} {str(path)!r}: folder is not writable")
+        entries = sorted(e.name for e in p.iterdir())
+        if entries and not overwrite:
+            shown = ", ".join(entries[:3]) + (f" and {len(entries) - 3} more" if len(entries) > 3 else "")
+            raise ConfigError(f"{option} {str(path)!r}: folder is not empty ({shown}); give a new folder, or "
+                              f"{how}")
+    else:
+        ancestor = next((a for a in p.absolute().parents if a.exists()), None)
+        if ancestor is not None and (not ancestor.is_dir() or not os.access(ancestor, os.W_OK)):
+            raise ConfigError(f"{option} {str(path)!r}: cannot be made in {str(ancestor)!r} (not a writable "
+                              f"folder)")

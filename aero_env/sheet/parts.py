@@ -1,0 +1,87 @@
+"""What a maker needs to build a design, read off its config: the parts in mm and g.
+
+Every value comes from the config (SI) and is converted here for the workbench only: lengths in
+mm, masses in g and in 1-yen coins (1.00 g each; the paper's robot carries four), the card pair
+whose measured friction (the paper's Table 3) is closest to the design's, and the spring as the
+paper measures it (N·mm/rad, and the torque when fully bent).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..config import Config
+
+YEN_COIN_G = 1.0  # a 1-yen coin weighs 1.00 g (aluminium, 20 mm across)
+
+# Shinohara & Nishibori 2026, Table 3: JIS K7125 friction of the 0.4 mm, 310 g/m² card
+# (a white coated face and a gray uncoated back). The arm is card too: which faces touch is a choice.
+CARD_PAIRS = (
+    ("white arm on white handrail", 0.507, 0.337),
+    ("white arm on gray handrail (the paper's prototype)", 0.542, 0.409),
+    ("gray arm on gray handrail", 0.283, 0.149),
+)
+CARD_PAIR_SPREAD = 0.10  # the robustness study's friction tolerance (±10 %): a pair this close is "that pair"
+
+
+@dataclass(frozen=True)
+class Line:
+    part: str
+    what: str
+    value: str
+
+
+def mm(x_m: float) -> str:
+    return f"{x_m * 1e3:.1f} mm"
+
+
+def grams(x_kg: float) -> str:
+    g = x_kg * 1e3
+    return f"{g:.2f} g ({g / YEN_COIN_G:.1f} one-yen coins)"
+
+
+def card_pair(mu_s: float, mu_k: float) -> tuple[str, float]:
+    """The Table 3 pair nearest the design's friction, and its relative distance in mu_s."""
+    name, s, _k = min(CARD_PAIRS, key=lambda p: math.hypot(p[1] - mu_s, p[2] - mu_k))
+    return name, abs(s - mu_s) / s
+
+
+def lines(cfg: Config) -> list[Line]:
+    """The build sheet's rows, part by part."""
+    d, s = cfg.design, cfg.scene
+    pair, off = card_pair(d.mu_s, d.mu_k)
+    pair_text = (f"{pair}: Table 3 gives the design's mu_s {d.mu_s:.3g} / mu_k {d.mu_k:.3g} within "
+                 f"{100 * off:.0f} %" if off <= CARD_PAIR_SPREAD else
+                 f"no card pair of Table 3 is within {100 * CARD_PAIR_SPREAD:.0f} % of mu_s {d.mu_s:.3g} / mu_k "
+                 f"{d.mu_k:.3g}; nearest: {pair} (coat or sand a face, then measure)")
+    bend = math.radians(d.alpha_max_deg - d.alpha_min_deg)
+    # the scene's spring law (physics/leaf_spring.py): linear k·da, or stiffening k/2·da²
+    full_torque = d.spring_k * (bend if cfg.scene.effects.spring_law == "linear" else bend * bend / 2)
+    return [
+        Line("swing frame", "skewer hole to counterbalance (La)", mm(d.La)),
+        Line("swing frame", "skewer hole to handrail seat (Lb)", mm(d.Lb)),
+        Line("swing frame", "counterbalance offset across the frame line (h)", mm(d.h)),
+        Line("swing frame", "card of one frame (m1)", grams(d.m1)),
+        Line("swing frame", "rest angle (the stopper skewer holds it there) / end stop",
+             f"{d.rest_angle_deg:.1f} deg / {d.stop_angle_deg:.1f} deg"),
+        Line("counterbalance", "mass at (La, h) (m3)", grams(d.m3)),
+        Line("handrail", "an L of card: back leg / front leg", f"{mm(d.notch_back_face)} / {mm(d.notch_front_face)}"),
+        Line("handrail", "the L's bisector at rest, from the frame line / opening",
+             f"{d.notch_angle_deg:.1f} deg / {d.notch_opening_deg:.0f} deg"),
+        Line("handrail", "its mass (counted in m2 by the paper, carried by the frame)", grams(d.handrail_mass)),
+        Line("handrail + arm", "the card pair that gives the friction", pair_text),
+        Line("robot", "whole robot, handrail included (m2)", grams(d.m2)),
+        Line("robot", "arm: axle hole to hook tip / mass", f"{mm(d.arm_length)} / {grams(d.arm_mass)}"),
+        Line("robot", "torso strip below the axle / its card (m2 less the parts listed here)",
+             f"{mm(d.torso_length)} / {grams(d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass)}"),
+        Line("robot", "coins on the torso: total / centre from the axle",
+             f"{grams(d.coin_mass)} / {mm(d.coin_offset)}"),
+        Line("leaf spring", "stiffness as the paper measures it (torque per radian of bend from alpha_min)",
+             f"{d.spring_k * 1e3:.3f} N·mm/rad ({cfg.scene.effects.spring_law})"),
+        Line("leaf spring", f"straight at alpha = {d.alpha_min_deg:.0f} deg; torque when fully bent "
+                            f"({d.alpha_max_deg:.0f} deg)",
+             f"{full_torque * 1e3:.2f} N·mm"),
+        Line("row", "frames / skewer holes apart (pitch) / each higher than the last (rise)",
+             f"{s.frames} / {mm(s.pitch)} / {mm(s.rise)}"),
+    ]
