@@ -27,7 +27,7 @@ from importlib.metadata import PackageNotFoundError, entry_points, version
 from .config import ConfigError, schema_rows
 from .scene_args import PLOT_SUFFIXES, check_output, load_scene
 
-__all__ = ["build_parser", "main", "load_scene"]  # load_scene is aero_env.scene_args's, kept importable here
+__all__ = ["build_parser", "main"]
 
 
 def package_version() -> str:
@@ -129,8 +129,6 @@ def cmd_compare(args) -> int:
     check_output(args.domain_map, "--domain-map", PLOT_SUFFIXES)
     for option, triple in (("--map-masses", args.map_masses), ("--map-ratios", args.map_ratios)):
         _check_sweep(option, triple)
-    if args.swing < 0:
-        raise ConfigError(f"--swing {args.swing}: must be a whole number >= 0 (0: from rest)")
     cfg = load_scene(args)
     summary, runs = cmp.compare(cfg, args.swing)
     which = "swing 0, from rest" if args.swing == 0 else f"swing {args.swing}, caught from a flight"

@@ -25,6 +25,17 @@ def load_scene(args) -> Config:
     return load_config(args.config, overrides)
 
 
+def whole_number(option: str, text, lo: int, hi: int, why: str = "") -> int:
+    """An option's whole number within [lo, hi], or a ConfigError naming it (and ``why`` the range, if given)."""
+    try:
+        value = int(str(text))
+    except ValueError:
+        value = None
+    if value is None or not lo <= value <= hi:
+        raise ConfigError(f"{option} = {text!r}: must be a whole number in [{lo}, {hi}]" + (f" ({why})" if why else ""))
+    return value
+
+
 def check_output(path: str | os.PathLike | None, option: str, suffixes: Iterable[str] | None = None) -> None:
     """Refuse an output file before any work: its folder must exist and be writable, the path must not be
     a folder, and its suffix (when ``suffixes`` is given) must be one that can be written. None passes."""

@@ -15,9 +15,9 @@ from __future__ import annotations
 
 import json
 import sys
-from pathlib import Path
 
 from ..config import Config, ConfigError
+from ..scene_args import check_output, whole_number
 from . import report
 from .fit import check_box, fit, parse_fits, require_optuna
 from .measured import load_measured
@@ -54,10 +54,10 @@ def register(sub, scene_command) -> None:
 def cmd_calibrate(args) -> int:
     from ..scene_args import load_scene
 
-    trials = _whole("--trials", args.trials, 1, MAX_TRIALS)
-    seed = _whole("--seed", args.seed, 0, MAX_SEED)
-    _check_output(args.out, "--out", (".yaml", ".yml"))
-    _check_output(args.plot, "--plot", PLOT_SUFFIXES)
+    trials = whole_number("--trials", args.trials, 1, MAX_TRIALS)
+    seed = whole_number("--seed", args.seed, 0, MAX_SEED)
+    check_output(args.out, "--out", (".yaml", ".yml"))
+    check_output(args.plot, "--plot", PLOT_SUFFIXES)
     reference = _reference(args)
     cfg = load_scene(args)
     keys = parse_fits(args.fit)
@@ -84,28 +84,6 @@ def cmd_calibrate(args) -> int:
     return 1 if doc["miss"] else 0
 
 
-def _whole(option: str, text, lo: int, hi: int) -> int:
-    try:
-        value = int(str(text))
-    except ValueError:
-        value = None
-    if value is None or not lo <= value <= hi:
-        raise ConfigError(f"{option} = {text!r}: must be a whole number in [{lo}, {hi}]")
-    return value
-
-
-def _check_output(path: str | None, option: str, suffixes: tuple[str, ...]) -> None:
-    """Refuse an output before any work: its folder must exist, and its suffix be one that can be written."""
-    if not path:
-        return
-    p = Path(path)
-    if not p.parent.is_dir():
-        raise ConfigError(f"{option} {path!r}: folder {str(p.parent)!r} does not exist")
-    if p.is_dir():
-        raise ConfigError(f"{option} {path!r}: is a folder; give a file name")
-    if p.suffix.lower() not in suffixes:
-        raise ConfigError(f"{option} {path!r}: suffix {p.suffix!r} not supported, allowed {list(suffixes)}")
-
 
 def _reference(args):
     if bool(args.trace) == bool(args.targets):
@@ -118,7 +96,7 @@ def _swing(text, reference, cfg: Config) -> int:
     """--swing, else the targets file's swing, else DEFAULT_SWING; it must be able to end in a slip-off."""
     last = cfg.scene.frames - 2  # the last frame's catch ends the run: its swing never slips off
     if text is not None:
-        swing = _whole("--swing", text, 0, MAX_SWING)
+        swing = whole_number("--swing", text, 0, MAX_SWING)
     else:
         swing = getattr(reference, "swing", None)
         swing = DEFAULT_SWING if swing is None else swing

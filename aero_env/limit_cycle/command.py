@@ -17,7 +17,8 @@ from __future__ import annotations
 
 import json
 
-from ..config import Config, ConfigError, Scene, Sim
+from ..config import Config, Scene, Sim
+from ..scene_args import whole_number
 from .report import cycle_report, table
 
 DEFAULT_FRAMES = 100
@@ -51,8 +52,8 @@ def cmd_cycle(args) -> int:
 def check_counts(frames_text, last_text) -> tuple[int, int]:
     """(--frames, --last) as whole numbers within their ranges, or a ConfigError naming the option."""
     hi = _field_bounds(Scene, "frames")[1]
-    frames = _whole("--frames", frames_text, MIN_LAST + 2, hi, "scene.frames")
-    last = _whole("--last", last_text, MIN_LAST, frames - 2,
+    frames = whole_number("--frames", frames_text, MIN_LAST + 2, hi, "scene.frames")
+    last = whole_number("--last", last_text, MIN_LAST, frames - 2,
                   f"less than --frames - 1 = {frames - 1}: the window leaves out the start from rest and the first "
                   f"catch from a flight")
     return frames, last
@@ -68,13 +69,3 @@ def long_row(cfg: Config, frames: int) -> Config:
 def _field_bounds(cls, name: str) -> tuple[float | None, float | None]:
     meta = cls.__dataclass_fields__[name].metadata
     return meta["lo"], meta["hi"]
-
-
-def _whole(option: str, text, lo: int, hi: int, why: str) -> int:
-    try:
-        value = int(str(text))
-    except ValueError:
-        value = None
-    if value is None or not lo <= value <= hi:
-        raise ConfigError(f"{option} = {text!r}: must be a whole number in [{lo}, {hi}] ({why})")
-    return value
