@@ -70,11 +70,20 @@ class SimResult:
     sim_time: float
     wall_time: float
     miss_distance: float | None = None  # m: closest the hook came to the next handrail's seat in the failed transfer
+    # (from the last catch on, the hanging included: whether the transfer was a flight is ``flew``)
     health: dict = field(default_factory=dict)  # largest joint drift (m), limit overshoot (deg), penetration (m)
     fidelity: str = "mbd"  # the sim.fidelity preset the run was made at
     trace: dict | None = field(default=None, repr=False)
     poses: list | None = field(default=None, repr=False)
     geometry: dict | None = field(default=None, repr=False)
+
+    @property
+    def flew(self) -> bool:
+        """Whether the run ended in a flight: the hook let go of the last frame that caught it (that swing
+        records its detach, ``t_detach``) and the robot flew towards the next frame, which did not catch it.
+        False for a completed run and for runs whose hook never let go (stalled, no_detach), whatever
+        ``miss_distance`` says (it is measured from the last catch on, the hanging included)."""
+        return self.outcome != "completed" and bool(self.swings) and self.swings[-1].t_detach is not None
 
     def to_json_dict(self) -> dict:
         """The fields of ``aero-env simulate --json`` (no trace or poses)."""

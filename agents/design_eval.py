@@ -1,7 +1,8 @@
 """Scoring one design through the environment, on a fixed set of episode seeds.
 
 Every tuner and every comparison scores designs here, so that "the reward of a design" means
-one thing: the mean environment reward over the same seeds (common random numbers). A seed
+one thing: the mean environment reward over the same seeds (common random numbers). The reward
+is :func:`aero_env.reward.reward` (shaping included), which ``tune --screen`` scores with too. A seed
 fixes one reset's draws, the observed context and the unobserved build tolerances; on a scene
 that draws nothing every seed gives the same run, so the design is simulated once.
 """

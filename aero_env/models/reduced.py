@@ -1507,7 +1507,8 @@ class BatchResult:
     t_detach: np.ndarray  # s: the first swing's detach time (NaN if the hook never let go of frame 0)
     theta1_detach_deg: np.ndarray  # deg: frame 0's angle at that detach (NaN likewise)
     sim_time: np.ndarray  # s: simulated time at the run's end (the runner's rules: see the module docstring)
-    miss_distance: np.ndarray  # m: closest the hook came to the next seat after the last catch (NaN if completed)
+    miss_distance: np.ndarray  # m: closest the hook came to the next seat after the last catch (NaN if completed);
+    # the hanging is included, so only a run that ``flew`` (the property below) missed by it in flight
     frames: int
     swings: dict = field(repr=False, default_factory=dict)  # per-frame arrays (n, frames), NaN where not reached
     reason_code: np.ndarray = field(repr=False, default=None)
@@ -1519,6 +1520,13 @@ class BatchResult:
 
     def __len__(self) -> int:
         return len(self.traversals)
+
+    @property
+    def flew(self) -> np.ndarray:
+        """bool: the run ended in a flight, as :attr:`aero_env.results.SimResult.flew`: the hook let go of the
+        last frame that caught it (that frame's ``t_detach`` is recorded) and the next frame did not catch it."""
+        t_detach = self.swings["t_detach"][np.arange(len(self)), self.last_frame]
+        return (self.outcome != "completed") & np.isfinite(t_detach)
 
     def reason(self, i: int) -> str:
         """Design i's outcome as a sentence with numbers (the runner's wording)."""
