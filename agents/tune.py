@@ -17,10 +17,11 @@ Storage decides who can share a study:
 
 ``trials`` is the study's target: a run on a study that already has finished trials runs only
 the rest, so a study resumed by name (same ``storage`` and ``study``) continues where it
-stopped. ``workers`` local processes split the remaining trials between them; each records
-its name in the trials it ran (``user_attrs["worker"]``). Runs on other machines against the
-same study stop once the study holds ``trials`` finished trials (each may overshoot by the
-trials it had in flight).
+stopped. ``workers`` local processes split the remaining trials between them
+(:mod:`agents.tune_workers`). On an RDB storage a run rides out a worker that dies, a lost
+database, Ctrl-C and runs of the same study on other machines, and the study ends with exactly
+``trials`` COMPLETE trials (:mod:`agents.study_faults`; the Optuna storage and study are
+:mod:`agents.study_storage`).
 
 A study records the scene it was made for (a fingerprint of the config), the seeds per design
 and the sampler: resuming it with another scene, seed count or ``--sampler`` is refused (CMA-ES
@@ -41,30 +42,22 @@ study reports it without screening again.
 
 from __future__ import annotations
 
-import hashlib
-import json
-import logging
-import multiprocessing as mp
-import os
-import socket
+import sys
 import time
-import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
-from aero_env.config import FIDELITY_PRESETS, Config, ConfigError, from_dict
+from aero_env.config import FIDELITY_PRESETS, Config, ConfigError
 from aero_env.design_space import DesignSpace
 
-from .design_eval import DesignEvaluator
 from .options import SAMPLERS, check_choice, check_ints
+from .study_faults import RECONNECT_S, _is_db_error, _Reconnect, redact
+from .study_storage import _complete, _load_study, _release_orphans, fail_dead_trials, make_sampler, open_storage
+from .tune_workers import _run_trials, _run_workers, _worker_name
 
 DEFAULT_FILE_STORAGE = "sqlite:///aero-env-tune.db"  # used when a study must outlive the process
-HEARTBEAT_S = 10          # a trial's process marks it alive this often (RDB storages) ...
-GRACE_S = 60              # ... and a trial silent this long is failed when the study resumes
-FINISHED = ("COMPLETE", "PRUNED", "FAIL")
 
 
 @dataclass(frozen=True)
@@ -81,11 +74,15 @@ class TuneSettings:
     progress: bool = True
     screen: str | None = None       # a cheaper fidelity to screen random designs with (e.g. reduced)
     screen_designs: int = 20000     # designs the screen scores
+    reconnect_s: float = RECONNECT_S  # a lost database is retried this long before the run stops
 
     def check(self) -> "TuneSettings":
         check_choice("sampler", self.sampler, SAMPLERS)
         check_ints(self, (("trials", 1, 10**7), ("seeds_per_design", 1, 10**4), ("workers", 1, 512),
                           ("seed", 0, 2**31 - 1), ("screen_designs", 1, 10**8)))
+        if (isinstance(self.reconnect_s, bool) or not isinstance(self.reconnect_s, (int, float))
+                or not 0 <= self.reconnect_s <= 86400):
+            raise ConfigError(f"--reconnect {self.reconnect_s!r}: seconds in [0, 86400]")
         if self.screen is not None:
             check_choice("screen", self.screen, tuple(FIDELITY_PRESETS))
         if self.storage is not None and self.storage != "memory" and "://" not in self.storage:
@@ -137,166 +134,6 @@ class TuneResult:
         return d
 
 
-def redact(url: str) -> str:
-    """A storage URL without its password, fit to print."""
-    if "://" in url and "@" in url.split("://", 1)[1]:
-        scheme, rest = url.split("://", 1)
-        cred, host = rest.rsplit("@", 1)
-        if ":" in cred:
-            return f"{scheme}://{cred.split(':', 1)[0]}:***@{host}"
-    return url
-
-
-# ---- Optuna pieces ----
-
-class _QuietInterrupts(logging.Filter):
-    """Ctrl-C fails the running trial, which Optuna logs as a warning with a traceback (and then its value,
-    None); :class:`TuneInterrupted` says it in one line instead. Other failures are logged as before."""
-
-    def __init__(self):
-        super().__init__()
-        self.trial: str | None = None
-
-    def filter(self, record: logging.LogRecord) -> bool:
-        if record.exc_info and isinstance(record.exc_info[1], KeyboardInterrupt):
-            self.trial = record.getMessage().split(" ", 2)[1]  # "Trial N failed with parameters: ..."
-            return False
-        if self.trial is not None and record.getMessage().startswith(f"Trial {self.trial} failed with value"):
-            self.trial = None
-            return False
-        return True
-
-
-_QUIET = _QuietInterrupts()
-
-
-def _optuna():
-    try:
-        import optuna
-    except ImportError:
-        raise ConfigError("aero-env tune needs Optuna: pip install -e '.[tune]'") from None
-    optuna.logging.set_verbosity(optuna.logging.WARNING)
-    trials_log = logging.getLogger("optuna.study._optimize")
-    if _QUIET not in trials_log.filters:
-        trials_log.addFilter(_QUIET)
-    return optuna
-
-
-def make_sampler(name: str, seed: int):
-    """The Optuna sampler for ``name``, seeded."""
-    optuna = _optuna()
-    if name == "cmaes":
-        # Optuna's defaults (mean at the box's centre, sigma0 a sixth of the box) on the cmaes
-        # package; Optuna 5 deprecates x0/sigma0 and dropped IPOP restarts, so none is set here.
-        return optuna.samplers.CmaEsSampler(seed=seed, warn_independent_sampling=False)
-    if name == "tpe":
-        return optuna.samplers.TPESampler(seed=seed, multivariate=True, constant_liar=True)
-    return optuna.samplers.RandomSampler(seed=seed)
-
-
-def open_storage(url: str):
-    optuna = _optuna()
-    if url == "memory":
-        return optuna.storages.InMemoryStorage()
-    try:
-        with warnings.catch_warnings():  # heartbeats are marked experimental; they are what fails dead trials
-            warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-            return optuna.storages.RDBStorage(url, heartbeat_interval=HEARTBEAT_S, grace_period=GRACE_S)
-    except ImportError as exc:  # the URL's driver is missing (psycopg: SQLAlchemy's for postgresql://)
-        raise ConfigError(f"--storage {redact(url)}: its database driver is missing ({exc}); for PostgreSQL: "
-                          f"pip install -e '.[postgres]'") from None
-    except Exception as exc:  # sqlalchemy's connection errors: name the URL, not the stack
-        raise ConfigError(f"--storage {redact(url)}: cannot open ({type(exc).__name__}: "
-                          f"{str(exc).splitlines()[0]})") from None
-
-
-def config_fingerprint(cfg: Config) -> str:
-    """Identifies the scene and design space a study was made for."""
-    return hashlib.sha256(json.dumps(cfg.to_dict(), sort_keys=True).encode()).hexdigest()[:16]
-
-
-def _load_study(cfg: Config, settings: TuneSettings, storage, name: str, sampler):
-    optuna = _optuna()
-    study = optuna.create_study(storage=storage, study_name=name, sampler=sampler, direction="maximize",
-                                load_if_exists=True)
-    mark = study.user_attrs.get("config_fingerprint")
-    fp = config_fingerprint(cfg)
-    made_with = study.user_attrs.get("sampler")  # absent in studies made before it was recorded
-    if mark is None:
-        study.set_user_attr("config_fingerprint", fp)
-        study.set_user_attr("config", cfg.to_dict())
-        study.set_user_attr("seeds_per_design", settings.seeds_per_design)
-        study.set_user_attr("sampler", settings.sampler)
-    elif made_with is not None and made_with != settings.sampler:
-        raise ConfigError(f"--sampler {settings.sampler}: study {name!r} was run with --sampler {made_with}; "
-                          f"resume it with --sampler {made_with}, or give a new --study name")
-    elif mark != fp:
-        raise ConfigError(f"--study {name!r}: this study was made for another scene or design space "
-                          f"(fingerprint {mark}, this config {fp}); give a new --study name")
-    elif study.user_attrs.get("seeds_per_design") != settings.seeds_per_design:
-        raise ConfigError(f"--seeds-per-design {settings.seeds_per_design}: study {name!r} scores designs on "
-                          f"{study.user_attrs.get('seeds_per_design')} seeds; its rewards would not compare")
-    return study
-
-
-def _finished(study) -> list:
-    optuna = _optuna()
-    states = tuple(getattr(optuna.trial.TrialState, s) for s in FINISHED)
-    return study.get_trials(deepcopy=False, states=states)
-
-
-def _complete(study) -> list:
-    return [t for t in _finished(study) if t.state.name == "COMPLETE"]
-
-
-def objective_for(evaluator: DesignEvaluator, worker: str) -> Callable:
-    names = evaluator.param_names
-
-    def objective(trial) -> float:
-        action = np.array([trial.suggest_float(n, -1.0, 1.0) for n in names])
-        score = evaluator.score(action)
-        for key, value in score.to_json_dict().items():
-            trial.set_user_attr(key, value)
-        trial.set_user_attr("worker", worker)
-        return score.mean_reward
-
-    return objective
-
-
-def _worker_name(index: int) -> str:
-    return f"{socket.gethostname()}:{os.getpid()}:w{index}"
-
-
-def _run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: int, index: int,
-                on_trial: Callable | None = None, ran: list[int] | None = None) -> list[int]:
-    """Run ``quota`` trials of the study in this process; the trial numbers it ran (appended to ``ran``
-    as they finish, so that a caller interrupted meanwhile knows them)."""
-    optuna = _optuna()
-    evaluator = DesignEvaluator(cfg, settings.eval_seeds)
-    # each worker its own sampler stream: two processes with one seed would propose the same designs
-    sampler = make_sampler(settings.sampler, settings.seed + 7919 * index)
-    study = _load_study(cfg, settings, storage, name, sampler)
-    ran = [] if ran is None else ran
-
-    def record(study_, trial):
-        ran.append(trial.number)
-        if on_trial is not None:
-            on_trial(study_, trial)
-
-    stop = optuna.study.MaxTrialsCallback(settings.trials)  # other machines may be filling the same study
-    study.optimize(objective_for(evaluator, _worker_name(index)), n_trials=quota, callbacks=[record, stop])
-    evaluator.close()
-    return ran
-
-
-def _worker_main(cfg_dict: dict, settings: TuneSettings, url: str, name: str, quota: int, index: int, queue) -> None:
-    try:
-        ran = _run_trials(from_dict(cfg_dict), settings, open_storage(url), name, quota, index)
-        queue.put((index, _worker_name(index), ran, None))
-    except BaseException as exc:  # reported by the parent, which names the worker
-        queue.put((index, _worker_name(index), [], f"{type(exc).__name__}: {exc}"))
-
-
 # ---- the tuning run ----
 
 class TuneInterrupted(Exception):
@@ -311,12 +148,15 @@ class TuneInterrupted(Exception):
 def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> TuneResult:
     """Run (or resume) the study; returns its best design and what this call did.
 
-    Ctrl-C raises :class:`TuneInterrupted` with the best design of the trials finished so far."""
+    Ctrl-C raises :class:`TuneInterrupted` with the best design of the trials finished so far; a database
+    lost for longer than ``settings.reconnect_s`` raises :class:`StorageUnavailable`. Either way the
+    study resumes by calling this again."""
     settings.check()
     url = settings.resolved_storage()
     name = settings.study_name(config_name)
     storage = open_storage(url)
     study = _load_study(cfg, settings, storage, name, make_sampler(settings.sampler, settings.seed))
+    reconnect = _Reconnect(settings.reconnect_s, "tune", url, name, reset=storage.remove_session)
     t0 = time.perf_counter()
     workers: list[dict] = []
     try:
@@ -325,7 +165,11 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
             for action in screened.pop("actions"):
                 study.enqueue_trial({t.name: float(a) for t, a in zip(cfg.tunable, action)})
             study.set_user_attr("screen", screened)
-        done = len(_complete(study))
+        failed = reconnect(lambda: fail_dead_trials(study))  # resuming: not after the heartbeat's grace
+        if failed:
+            print(f"aero-env tune: trial(s) {', '.join(map(str, failed))} were left RUNNING by processes gone from "
+                  f"this host: failed, and their designs queued again", file=sys.stderr, flush=True)
+        done = len(reconnect(lambda: _complete(study)))
         remaining = max(0, settings.trials - done)
         with _Progress(settings.trials, done, enabled=settings.progress and remaining > 0) as bar:
             if remaining and settings.workers == 1:
@@ -336,54 +180,30 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
                 workers = _run_workers(cfg, settings, url, name, remaining, study, bar)
     except KeyboardInterrupt:
         wall = time.perf_counter() - t0
+        partial, finished = None, 0
         try:
+            storage.remove_session()  # not the session Ctrl-C may have cut half-way through a transaction
+            _release_orphans(study, storage)  # a trial Ctrl-C cut while Optuna was recording it
+            finished = len(_complete(study))
             partial = _result(cfg, study, settings, url, name, wall, workers)
         except RuntimeError:  # no trial finished yet
-            partial = None
-        raise TuneInterrupted(partial, url, name, len(_complete(study)), settings.trials) from None
+            pass
+        except Exception as exc:  # the database is gone too: the study still holds what it held
+            if not _is_db_error(exc):
+                raise
+        raise TuneInterrupted(partial, url, name, finished, settings.trials) from None
     wall = time.perf_counter() - t0
-    return _result(cfg, study, settings, url, name, wall, workers)
-
-
-def _run_workers(cfg, settings, url, name, remaining, study, bar) -> list[dict]:
-    ctx = mp.get_context("spawn")  # a clean interpreter per worker: no inherited sockets or threads
-    queue = ctx.Queue()
-    n = min(settings.workers, remaining)
-    quotas = [remaining // n + (1 if i < remaining % n else 0) for i in range(n)]
-    procs = [ctx.Process(target=_worker_main, args=(cfg.to_dict(), settings, url, name, q, i, queue), daemon=True)
-             for i, q in enumerate(quotas)]
-    for p in procs:
-        p.start()
-    reports = []
-    try:
-        while len(reports) < n:
-            try:
-                reports.append(queue.get(timeout=0.5))
-            except Exception:  # queue.Empty: nothing yet; refresh the bar from the shared storage
-                if not any(p.is_alive() for p in procs) and queue.empty():
-                    break
-            bar.update(study)
-    except KeyboardInterrupt:  # Ctrl-C reaches the workers too; stop any that is still running
-        for p in procs:
-            p.terminate()
-        for p in procs:
-            p.join()
-        raise
-    for p in procs:
-        p.join()
-    failed = [(w, err) for _, w, _, err in reports if err]
-    lost = n - len(reports)
-    if failed or lost:
-        why = "; ".join(f"worker {w}: {err}" for w, err in failed) or f"{lost} worker(s) died without a report"
-        raise RuntimeError(f"tuning workers failed: {why}")
-    return [dict(worker=w, trials=ran) for _, w, ran, _ in sorted(reports)]
+    return reconnect(lambda: _result(cfg, study, settings, url, name, wall, workers))
 
 
 def screen(cfg: Config, settings: TuneSettings) -> dict:
     """Score ``screen_designs`` random designs at fidelity ``screen`` on the evaluator's episode draws;
-    the best ``trials`` actions first. One vectorised batch when the fidelity is ``reduced``."""
+    the best ``trials`` actions first. One vectorised batch when the fidelity is ``reduced``. A design's
+    score is the mean env reward over the draws (:mod:`aero_env.reward`, shaping included), what
+    ``env.step`` would pay at that fidelity, so the screen ranks by the study's own objective."""
     from gymnasium.utils import seeding
 
+    from aero_env.reward import batch_reward, reward
     from aero_env.simulation import simulate
 
     t0 = time.perf_counter()
@@ -397,10 +217,9 @@ def screen(cfg: Config, settings: TuneSettings) -> dict:
     if cheap.sim.model == "reduced":
         from aero_env.models.reduced import simulate_batch
 
-        res = simulate_batch(cfgs)
-        rewards = np.where(np.asarray(res.outcome) == "unstable", 0.0, np.asarray(res.traversals, float))
+        rewards = batch_reward(simulate_batch(cfgs), cfgs)
     else:
-        rewards = np.array([0.0 if r.outcome == "unstable" else float(r.traversals) for r in map(simulate, cfgs)])
+        rewards = np.array([reward(simulate(c), c) for c in cfgs])
     scores = rewards.reshape(len(actions), len(draws)).mean(axis=1)
     order = np.argsort(-scores, kind="stable")[:settings.trials]  # ties: in draw order (seeded)
     full_row = cfg.scene.frames - 1

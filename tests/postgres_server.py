@@ -4,7 +4,8 @@ The server is Debian's (``apt-get install postgresql``, which ``.ci/run`` does):
 cluster made by ``initdb`` with trust authentication, listening on 127.0.0.1 on a free port,
 its socket in the cluster's own directory, stopped and deleted afterwards. PostgreSQL refuses
 to run as root, so under root the cluster belongs to the ``postgres`` user and its commands run
-through ``runuser``.
+through ``runuser``. :func:`postgres_cluster` also stops and starts the server in between, for the
+tests of a study whose server restarts (tests/test_tune_faults.py).
 """
 
 from __future__ import annotations
@@ -42,9 +43,29 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
+class PostgresCluster:
+    """A running throwaway server: ``url`` of its database; ``stop()`` and ``start()`` take it down and up
+    again on the same port and data (``-m fast``: open connections are cut, as a crash or an
+    administrator's restart would)."""
+
+    def __init__(self, url: str, run, pg_ctl: str, data: Path, log: Path, options: str):
+        self.url, self._run, self._pg_ctl, self._data, self._log, self._options = url, run, pg_ctl, data, log, options
+        self.running = True
+
+    def stop(self) -> None:
+        self._run(self._pg_ctl, "-D", str(self._data), "-m", "fast", "-w", "stop")
+        self.running = False
+
+    def start(self) -> None:
+        self._run(self._pg_ctl, "-D", str(self._data), "-l", str(self._log), "-o", self._options, "-w", "-t", "60",
+                  "start")
+        self.running = True
+
+
 @contextmanager
-def postgres_server():
-    """Yields the URL of a fresh, empty database; stops the server and removes its files after."""
+def postgres_cluster():
+    """Yields a :class:`PostgresCluster` with a fresh, empty database; stops the server and removes its files
+    after."""
     initdb, pg_ctl = find_bin("initdb"), find_bin("pg_ctl")
     as_root = os.geteuid() == 0
     if as_root and shutil.which("runuser") is None:
@@ -73,14 +94,23 @@ def postgres_server():
     try:
         run(initdb, "-D", str(data), "-A", "trust", "-U", "postgres", "--no-sync", "-E", "UTF8")
         options = f"-c listen_addresses=127.0.0.1 -c port={port} -c unix_socket_directories={base} -c fsync=off"
-        run(pg_ctl, "-D", str(data), "-l", str(log), "-o", options, "-w", "-t", "60", "start")
+        cluster = PostgresCluster(f"postgresql://postgres@127.0.0.1:{port}/postgres", run, pg_ctl, data, log, options)
+        cluster.start()
         try:
-            yield f"postgresql://postgres@127.0.0.1:{port}/postgres"
+            yield cluster
         finally:
-            run(pg_ctl, "-D", str(data), "-m", "fast", "-w", "stop")
+            if cluster.running:
+                cluster.stop()
     finally:
         for _ in range(20):  # the server's last files can lag its exit by a moment
             shutil.rmtree(base, ignore_errors=True)
             if not base.exists():
                 break
             time.sleep(0.1)
+
+
+@contextmanager
+def postgres_server():
+    """Yields the URL of a fresh, empty database; stops the server and removes its files after."""
+    with postgres_cluster() as cluster:
+        yield cluster.url

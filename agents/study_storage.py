@@ -1,0 +1,295 @@
+"""Optuna's side of tuning: the sampler, the storage, the study and the trials of dead processes.
+
+:func:`open_storage` opens a study's database. SQLite studies run in WAL mode with a 60 s busy timeout,
+so local workers do not meet "database is locked". On an RDB storage the process that runs a trial is
+stamped on it (``system_attrs["aero_process"]``: host, boot, pid namespace, pid and start time) in the
+transaction that makes it RUNNING; :func:`fail_dead_trials` fails the RUNNING trials whose process is
+gone from this host or never beat, and :func:`requeue_trial` (also the heartbeat's callback) queues
+their designs again. :func:`_load_study` refuses to resume a study with another scene, seed count or
+sampler.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import time
+import warnings
+from datetime import datetime, timedelta
+from typing import TYPE_CHECKING
+
+from aero_env.config import Config, ConfigError
+
+from .study_faults import _chain, _interrupted, _is_db_error, process_gone, process_stamp, redact
+
+if TYPE_CHECKING:
+    from .tune import TuneSettings
+
+HEARTBEAT_S = 10          # a trial's process marks it alive this often (RDB storages) ...
+GRACE_S = 60              # ... and a trial silent this long is failed by the next trial's start
+MAX_RETRY = 2             # a design whose worker died is queued again at most this many times
+PROCESS_ATTR = "aero_process"
+FINISHED = ("COMPLETE", "PRUNED", "FAIL")
+
+
+# ---- Optuna pieces ----
+
+class _QuietInterrupts(logging.Filter):
+    """Ctrl-C fails the running trial, which Optuna logs as a warning with a traceback (and then its value,
+    None); :class:`TuneInterrupted` says it in one line instead. So does a lost database connection
+    (:class:`_Reconnect` says it). Other failures are logged as before."""
+
+    def __init__(self):
+        super().__init__()
+        self.trial: str | None = None
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if record.exc_info and (_interrupted(record.exc_info[1]) or _is_db_error(record.exc_info[1])
+                                or _finished_elsewhere(record.exc_info[1])):
+            self.trial = record.getMessage().split(" ", 2)[1]  # "Trial N failed with parameters: ..."
+            return False
+        if self.trial is not None and record.getMessage().startswith(f"Trial {self.trial} failed with value"):
+            self.trial = None
+            return False
+        return True
+
+
+_QUIET = _QuietInterrupts()
+
+
+def _quiet_fallback(record: logging.LogRecord) -> bool:
+    """Optuna's RDB storage logs a lost connection while reading trials as a many-line warning ("Caught an
+    error from sqlalchemy ... Falling back to a slower alternative") before the error itself is raised;
+    :class:`_Reconnect` says it in one line."""
+    return not record.getMessage().startswith("Caught an error from sqlalchemy")
+
+
+def _optuna():
+    try:
+        import optuna
+    except ImportError:
+        raise ConfigError("aero-env tune needs Optuna: pip install -e '.[tune]'") from None
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    trials_log = logging.getLogger("optuna.study._optimize")
+    if _QUIET not in trials_log.filters:
+        trials_log.addFilter(_QUIET)
+    rdb_log = logging.getLogger("optuna.storages._rdb.storage")
+    if _quiet_fallback not in rdb_log.filters:
+        rdb_log.addFilter(_quiet_fallback)
+    return optuna
+
+
+def make_sampler(name: str, seed: int):
+    """The Optuna sampler for ``name``, seeded."""
+    optuna = _optuna()
+    if name == "cmaes":
+        # Optuna's defaults (mean at the box's centre, sigma0 a sixth of the box) on the cmaes
+        # package; Optuna 5 deprecates x0/sigma0 and dropped IPOP restarts, so none is set here.
+        return optuna.samplers.CmaEsSampler(seed=seed, warn_independent_sampling=False)
+    if name == "tpe":
+        return optuna.samplers.TPESampler(seed=seed, multivariate=True, constant_liar=True)
+    return optuna.samplers.RandomSampler(seed=seed)
+
+
+def open_storage(url: str):
+    optuna = _optuna()
+    if url == "memory":
+        return optuna.storages.InMemoryStorage()
+    if url.startswith("sqlite"):  # a busy database waits (up to 60 s) instead of failing "database is locked"
+        engine_kwargs: dict = {"connect_args": {"timeout": 60}}
+    else:  # a connection dropped by a server restart is replaced, not used; an unreachable host fails in 10 s
+        engine_kwargs = {"pool_pre_ping": True}
+        if url.startswith("postgresql"):
+            engine_kwargs["connect_args"] = {"connect_timeout": 10}
+    try:
+        for attempt in range(3):  # processes creating a new database's tables at once collide (IntegrityError)
+            try:
+                with warnings.catch_warnings():  # heartbeats are marked experimental; they fail dead trials
+                    warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+                    storage = _storage_class()(url, engine_kwargs=engine_kwargs, heartbeat_interval=HEARTBEAT_S,
+                                               grace_period=GRACE_S, heartbeat_stale_trial_callback=requeue_trial)
+                break
+            except Exception as exc:
+                if attempt == 2 or type(exc).__name__ != "IntegrityError":
+                    raise
+                time.sleep(0.2 * (attempt + 1))
+        if url.startswith("sqlite"):  # readers never block the writer; the mode stays with the file
+            with storage.engine.connect() as conn:
+                conn.exec_driver_sql("PRAGMA journal_mode=WAL")
+        return storage
+    except ImportError as exc:  # the URL's driver is missing (psycopg: SQLAlchemy's for postgresql://)
+        raise ConfigError(f"--storage {redact(url)}: its database driver is missing ({exc}); for PostgreSQL: "
+                          f"pip install -e '.[postgres]'") from None
+    except Exception as exc:  # sqlalchemy's connection errors: name the URL, not the stack
+        raise ConfigError(f"--storage {redact(url)}: cannot open ({type(exc).__name__}: "
+                          f"{str(exc).splitlines()[0]})") from exc  # the cause: a worker retries a lost one
+
+
+_STORAGE_CLASS = None
+
+
+def _storage_class():
+    """Optuna's RDBStorage, which stamps the trials this process makes RUNNING with the process (in the
+    same transaction for a new trial), remembers them (``owned``), and keeps its heartbeat thread alive
+    through a lost connection (it beats again at the next interval)."""
+    global _STORAGE_CLASS
+    if _STORAGE_CLASS is not None:
+        return _STORAGE_CLASS
+    optuna = _optuna()
+    from optuna.trial import FrozenTrial, TrialState
+
+    class TuneStorage(optuna.storages.RDBStorage):
+        def __init__(self, *args, **kwargs):
+            self.owned: set[int] = set()
+            super().__init__(*args, **kwargs)
+
+        def _create_new_trial(self, study_id, template_trial=None):
+            if template_trial is None:  # a trial the sampler fills, run here: stamped as it is made
+                template_trial = FrozenTrial(
+                    number=-1, state=TrialState.RUNNING, value=None, datetime_start=datetime.now(),
+                    datetime_complete=None, params={}, distributions={}, user_attrs={},
+                    system_attrs={PROCESS_ATTR: process_stamp()}, intermediate_values={}, trial_id=-1)
+            frozen = super()._create_new_trial(study_id, template_trial)
+            if frozen.state == TrialState.RUNNING:
+                self.owned.add(frozen._trial_id)
+            return frozen
+
+        def set_trial_state_values(self, trial_id, state, values=None):
+            changed = super().set_trial_state_values(trial_id, state, values)
+            if changed and state == TrialState.RUNNING:  # a queued trial taken by this process
+                self.owned.add(trial_id)
+                self.set_trial_system_attr(trial_id, PROCESS_ATTR, process_stamp())
+            elif state.is_finished():
+                self.owned.discard(trial_id)
+            return changed
+
+        def unbeaten_trial_ids(self, study_id: int) -> set[int]:
+            """RUNNING trials with no heartbeat yet: the heartbeat never fails one whose process died before it
+            began beating (see :func:`fail_dead_trials`)."""
+            from optuna.storages._rdb import models
+            from optuna.storages._rdb.storage import _create_scoped_session
+
+            with _create_scoped_session(self.scoped_session) as session:
+                rows = (session.query(models.TrialModel.trial_id)
+                        .outerjoin(models.TrialHeartbeatModel,
+                                   models.TrialHeartbeatModel.trial_id == models.TrialModel.trial_id)
+                        .filter(models.TrialModel.study_id == study_id,
+                                models.TrialModel.state == TrialState.RUNNING,
+                                models.TrialHeartbeatModel.trial_id.is_(None)).all())
+            return {r[0] for r in rows}
+
+        def record_heartbeat(self, trial_id):
+            try:
+                super().record_heartbeat(trial_id)
+            except Exception as exc:
+                if not _is_db_error(exc):
+                    raise
+                self.remove_session()  # this thread's session: a fresh one for the next beat
+
+    _STORAGE_CLASS = TuneStorage
+    return TuneStorage
+
+
+def _finished_elsewhere(exc: BaseException | None) -> bool:
+    """The running trial was finished by another process (failed as stale): Optuna's error in recording it."""
+    optuna = _optuna()
+    return not _interrupted(exc) and any(
+        isinstance(e, optuna.exceptions.UpdateFinishedTrialError)
+        or (isinstance(e, ValueError) and str(e).startswith("Cannot tell a")) for e in _chain(exc))
+
+
+# ---- dead processes' trials ----
+
+def requeue_trial(study, trial) -> None:
+    """A failed trial's design queued again (WAITING, same params and system attrs but the process stamp),
+    at most ``MAX_RETRY`` times; Optuna's RetryHeartbeatStaleTrialCallback without carrying the stamp."""
+    optuna = _optuna()
+    attrs = {k: v for k, v in trial.system_attrs.items() if k != PROCESS_ATTR}
+    history = [*attrs.get("retry_history", []), trial.number]
+    if len(history) > MAX_RETRY:
+        return
+    attrs.update(failed_trial=attrs.get("failed_trial", trial.number), retry_history=history)
+    study.add_trial(optuna.create_trial(state=optuna.trial.TrialState.WAITING, params=trial.params,
+                                        distributions=trial.distributions, system_attrs=attrs))
+
+
+def _fail_and_requeue(study, storage, trial_id: int) -> bool:
+    optuna = _optuna()
+    try:
+        if not storage.set_trial_state_values(trial_id, state=optuna.trial.TrialState.FAIL):
+            return False
+    except optuna.exceptions.UpdateFinishedTrialError:  # it finished meanwhile, or another process failed it
+        return False
+    requeue_trial(study, storage.get_trial(trial_id))
+    return True
+
+
+def fail_dead_trials(study) -> list[int]:
+    """Fail (and queue again) the RUNNING trials whose stamped process is gone from this host, and those that
+    never beat for longer than the heartbeat's grace; their numbers. Nothing to do for an in-memory study,
+    whose trials die with their process."""
+    storage = getattr(study._storage, "_backend", study._storage)
+    if not hasattr(storage, "owned"):
+        return []
+    optuna = _optuna()
+    running = study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,))
+    since = datetime.now() - timedelta(seconds=storage.grace_period or GRACE_S)
+    old = {t._trial_id for t in running if t.datetime_start is not None and t.datetime_start < since}
+    silent = old & storage.unbeaten_trial_ids(study._study_id) if old else set()
+    return [t.number for t in running
+            if (process_gone(t.system_attrs.get(PROCESS_ATTR)) or t._trial_id in silent)
+            and _fail_and_requeue(study, storage, t._trial_id)]
+
+
+def _release_orphans(study, storage) -> list[int]:
+    """Fail (and queue again) the trials this process made RUNNING and no longer runs: a lost connection
+    cut them, or Ctrl-C came while Optuna was recording them. Called between trials only."""
+    released = []
+    for trial_id in sorted(getattr(storage, "owned", ())):
+        trial = storage.get_trial(trial_id)  # the database's state, not a cache's
+        if trial.state.name == "RUNNING" and _fail_and_requeue(study, storage, trial_id):
+            released.append(trial.number)
+        storage.owned.discard(trial_id)
+    return released
+
+
+# ---- the study ----
+
+def config_fingerprint(cfg: Config) -> str:
+    """Identifies the scene and design space a study was made for."""
+    return hashlib.sha256(json.dumps(cfg.to_dict(), sort_keys=True).encode()).hexdigest()[:16]
+
+
+def _load_study(cfg: Config, settings: TuneSettings, storage, name: str, sampler):
+    optuna = _optuna()
+    study = optuna.create_study(storage=storage, study_name=name, sampler=sampler, direction="maximize",
+                                load_if_exists=True)
+    mark = study.user_attrs.get("config_fingerprint")
+    fp = config_fingerprint(cfg)
+    made_with = study.user_attrs.get("sampler")  # absent in studies made before it was recorded
+    if mark is None:
+        study.set_user_attr("config_fingerprint", fp)
+        study.set_user_attr("config", cfg.to_dict())
+        study.set_user_attr("seeds_per_design", settings.seeds_per_design)
+        study.set_user_attr("sampler", settings.sampler)
+    elif made_with is not None and made_with != settings.sampler:
+        raise ConfigError(f"--sampler {settings.sampler}: study {name!r} was run with --sampler {made_with}; "
+                          f"resume it with --sampler {made_with}, or give a new --study name")
+    elif mark != fp:
+        raise ConfigError(f"--study {name!r}: this study was made for another scene or design space "
+                          f"(fingerprint {mark}, this config {fp}); give a new --study name")
+    elif study.user_attrs.get("seeds_per_design") != settings.seeds_per_design:
+        raise ConfigError(f"--seeds-per-design {settings.seeds_per_design}: study {name!r} scores designs on "
+                          f"{study.user_attrs.get('seeds_per_design')} seeds; its rewards would not compare")
+    return study
+
+
+def _finished(study) -> list:
+    optuna = _optuna()
+    states = tuple(getattr(optuna.trial.TrialState, s) for s in FINISHED)
+    return study.get_trials(deepcopy=False, states=states)
+
+
+def _complete(study) -> list:
+    return [t for t in _finished(study) if t.state.name == "COMPLETE"]

@@ -1,0 +1,288 @@
+"""The processes that run a study's trials.
+
+:func:`_run_trials` runs trials in this process until its share is COMPLETE or the study is full;
+:func:`_run_workers` (the coordinator) starts ``workers`` spawned processes (:func:`_worker_main`) that
+split the remaining trials, starts a new worker for the share of one that dies, and stops them all
+on Ctrl-C or a failure. Each records its name in the trials it ran (``user_attrs["worker"]``);
+:func:`objective_for` scores a trial and prunes one that is surplus to the study's ``trials``.
+"""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import os
+import queue as queue_mod
+import signal
+import socket
+import sys
+import threading
+import time
+import warnings
+from collections import Counter
+from typing import TYPE_CHECKING, Callable
+
+import numpy as np
+
+from aero_env.config import Config, from_dict
+
+from .design_eval import DesignEvaluator
+from .study_faults import StorageUnavailable, _is_db_error, _Reconnect
+from .study_storage import (_complete, _finished_elsewhere, _load_study, _optuna, _release_orphans,
+                            fail_dead_trials, make_sampler, open_storage)
+
+if TYPE_CHECKING:
+    from .tune import TuneSettings
+
+MAX_DEATHS = 8            # workers that may die in one run before the run stops (a design that kills them)
+POLL_S = 0.5              # a worker with nothing to start looks again this often
+STOP_S = 15.0             # Ctrl-C: how long the workers get to fail their trials before they are killed
+
+
+# ---- a worker: trials in this process ----
+
+def objective_for(evaluator: DesignEvaluator, worker: str, target: int | None = None) -> Callable:
+    """The study's objective; with ``target``, a trial that finds ``target`` live trials (COMPLETE, RUNNING or
+    WAITING) numbered before it, at its start or before it reports, is PRUNED as surplus: a study filled
+    by several runs at once never ends with more than ``target`` COMPLETE trials."""
+    names = evaluator.param_names
+
+    def objective(trial) -> float:
+        _drop_surplus(trial, target)
+        action = np.array([trial.suggest_float(n, -1.0, 1.0) for n in names])
+        score = evaluator.score(action)
+        for key, value in score.to_json_dict().items():
+            trial.set_user_attr(key, value)
+        trial.set_user_attr("worker", worker)
+        _drop_surplus(trial, target)
+        return score.mean_reward
+
+    return objective
+
+
+def _drop_surplus(trial, target: int | None) -> None:
+    if target is None:
+        return
+    optuna = _optuna()
+    S = optuna.trial.TrialState
+    live = trial.study.get_trials(deepcopy=False, states=(S.COMPLETE, S.RUNNING, S.WAITING))
+    if sum(t.number < trial.number for t in live) >= target:
+        trial.set_user_attr("surplus", True)
+        raise optuna.TrialPruned(f"the study's {target} trials are taken by trials before this one")
+
+
+def _worker_name(index: int) -> str:
+    return f"{socket.gethostname()}:{os.getpid()}:w{index}"
+
+
+def _run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: int, index: int,
+                on_trial: Callable | None = None, ran: list[int] | None = None) -> list[int]:
+    """Run trials in this process until ``quota`` of them are COMPLETE or the study holds ``trials``
+    COMPLETE trials; the numbers of its COMPLETE trials (appended to ``ran`` as they finish, so that a
+    caller interrupted meanwhile knows them). Before each trial it fails the trials of processes gone from
+    this host and those a lost connection cut here; it starts one only while the study's COMPLETE, RUNNING
+    and WAITING trials fall short of ``trials``, else waits (a running trial may yet die). A lost database
+    is retried for ``settings.reconnect_s``, then :class:`StorageUnavailable`. A worker whose coordinator
+    is gone stops after its trial."""
+    optuna = _optuna()
+    S = optuna.trial.TrialState
+    evaluator = DesignEvaluator(cfg, settings.eval_seeds)
+    # each worker its own sampler stream: two processes with one seed would propose the same designs
+    sampler = make_sampler(settings.sampler, settings.seed + 7919 * index)
+    reconnect = _Reconnect(settings.reconnect_s, f"worker w{index} (pid {os.getpid()})",
+                           settings.resolved_storage(), name, reset=getattr(storage, "remove_session", None))
+    study = reconnect(lambda: _load_study(cfg, settings, storage, name, sampler))
+    objective = objective_for(evaluator, _worker_name(index), settings.trials)
+    ran = [] if ran is None else ran
+    parent = os.getppid() if mp.parent_process() is not None else None
+
+    def record(study_, trial):
+        if trial.state == S.COMPLETE:
+            ran.append(trial.number)
+        if on_trial is not None:
+            on_trial(study_, trial)
+
+    def step() -> bool:  # False: the study is full
+        _release_orphans(study, storage)
+        fail_dead_trials(study)
+        count = Counter(t.state for t in study.get_trials(deepcopy=False))
+        if count[S.COMPLETE] >= settings.trials:
+            return False
+        if not count[S.WAITING] and count[S.COMPLETE] + count[S.RUNNING] >= settings.trials:
+            with warnings.catch_warnings():  # the rest is running elsewhere: wait, failing any that goes silent
+                warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+                optuna.storages.fail_stale_trials(study)
+            time.sleep(POLL_S)
+            return True
+        try:
+            study.optimize(objective, n_trials=1, callbacks=[record])
+        except Exception as exc:
+            if not _finished_elsewhere(exc):
+                raise
+            print(f"aero-env tune: worker w{index} (pid {os.getpid()}): its trial was failed by another process "
+                  f"(its heartbeat was late); the design was queued again", file=sys.stderr, flush=True)
+        return True
+
+    try:
+        while len(ran) < quota and (parent is None or os.getppid() == parent) and reconnect(step):
+            pass
+    finally:
+        evaluator.close()
+    return ran
+
+
+def _interrupt_once(signum, frame):
+    """Ctrl-C in a worker: KeyboardInterrupt, and the next one ignored. A terminal's Ctrl-C reaches the worker
+    and then the coordinator's own (:func:`_stop_workers`): the second would cut Optuna failing the trial."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    raise KeyboardInterrupt
+
+
+def _worker_main(cfg_dict: dict, settings: TuneSettings, url: str, name: str, quota: int, index: int, queue) -> None:
+    signal.signal(signal.SIGINT, _interrupt_once)  # it started with Ctrl-C ignored (_run_workers)
+    ran: list[int] = []
+    kind, err = "ok", None
+    try:
+        reconnect = _Reconnect(settings.reconnect_s, f"worker w{index} (pid {os.getpid()})", url, name)
+        _run_trials(from_dict(cfg_dict), settings, reconnect(lambda: open_storage(url)), name, quota, index, ran=ran)
+    except KeyboardInterrupt:
+        kind, err = "interrupt", "interrupted"
+    except StorageUnavailable as exc:
+        kind, err = "storage", exc.why
+    except BaseException as exc:  # reported by the parent, which names the worker
+        kind, err = "error", f"{type(exc).__name__}: {exc}"
+    queue.put((index, _worker_name(index), ran, kind, err))
+
+
+# ---- the coordinator: worker processes ----
+
+def _quiet_db(fn: Callable):
+    """``fn()``, or None where the database cannot be reached just now (the workers retry; this can wait)."""
+    try:
+        return fn()
+    except Exception as exc:
+        if not _is_db_error(exc):
+            raise
+        return None
+
+
+class _SigintIgnored:
+    """Ctrl-C ignored while a worker process starts: it inherits that until :func:`_worker_main` runs, so
+    that a Ctrl-C while it imports stops it through the coordinator rather than with a traceback."""
+
+    def __enter__(self):
+        self.old = None
+        if threading.current_thread() is threading.main_thread():
+            self.old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    def __exit__(self, *exc):
+        if self.old is not None:
+            signal.signal(signal.SIGINT, self.old)
+
+
+def _drain(queue, timeout: float) -> list:
+    got = []
+    try:
+        got.append(queue.get(timeout=timeout))
+        while True:
+            got.append(queue.get_nowait())
+    except queue_mod.Empty:
+        return got
+
+
+def _stop_workers(procs: list) -> None:
+    """Ctrl-C each worker (Optuna fails its trial), wait up to ``STOP_S`` for all, then kill the rest."""
+    alive = [p for p in procs if p.is_alive()]
+    for p in alive:
+        try:
+            os.kill(p.pid, signal.SIGINT)
+        except ProcessLookupError:
+            pass
+    deadline = time.monotonic() + STOP_S
+    try:
+        for p in alive:
+            p.join(max(0.0, deadline - time.monotonic()))
+    except KeyboardInterrupt:  # a second Ctrl-C: wait no longer
+        pass
+    for p in alive:
+        if p.is_alive():
+            p.kill()
+        p.join()
+
+
+def _run_workers(cfg, settings, url, name, remaining, study, bar) -> list[dict]:
+    """``settings.workers`` processes share the ``remaining`` trials. One that dies without a report (SIGKILL,
+    OOM) has its RUNNING trial failed and queued again, and a new worker takes the rest of its share; on
+    Ctrl-C, or when one reports an error, all are stopped and what they left RUNNING is failed."""
+    ctx = mp.get_context("spawn")  # a clean interpreter per worker: no inherited sockets or threads
+    reports = ctx.Queue()
+    n = min(settings.workers, remaining)
+    quotas = [remaining // n + (1 if i < remaining % n else 0) for i in range(n)]
+    procs: dict[int, tuple] = {}    # index -> (process, its share of trials)
+    ended: dict[int, dict] = {}     # index -> worker, trials (COMPLETE), kind, err
+    next_index, deaths = n, 0
+
+    def start(index: int, quota: int) -> None:
+        p = ctx.Process(target=_worker_main, args=(cfg.to_dict(), settings, url, name, quota, index, reports),
+                        daemon=True)
+        with _SigintIgnored():
+            p.start()
+        procs[index] = (p, quota)
+
+    def collect(timeout: float) -> None:
+        for index, worker, ran, kind, err in _drain(reports, timeout):
+            ended[index] = dict(worker=worker, trials=ran, kind=kind, err=err)
+
+    try:
+        for i, q in enumerate(quotas):
+            start(i, q)
+        while procs:
+            collect(POLL_S)
+            for index, (p, quota) in list(procs.items()):
+                if index not in ended and not p.is_alive():
+                    collect(0.2)  # a report sent just before it exited
+                if index in ended:
+                    p.join()
+                    del procs[index]
+                elif not p.is_alive():
+                    p.join()
+                    del procs[index]
+                    deaths += 1
+                    worker = f"{socket.gethostname()}:{p.pid}:w{index}"
+                    failed = _quiet_db(lambda: fail_dead_trials(study)) or []
+                    mine = _quiet_db(lambda: [t.number for t in _complete(study)
+                                              if t.user_attrs.get("worker") == worker]) or []
+                    ended[index] = dict(worker=worker, trials=mine, kind="died", err=None)
+                    left = quota - len(mine)
+                    code = p.exitcode
+                    how = f"killed by {signal.Signals(-code).name}" if code and code < 0 else f"exit status {code}"
+                    if deaths > MAX_DEATHS:
+                        raise RuntimeError(f"tuning workers failed: {deaths} workers died ({how} the last); "
+                                           f"see the study's FAIL trials for the designs they ran")
+                    print(f"aero-env tune: worker {worker} died ({how}) after {len(mine)} trial(s)"
+                          + (f"; trial(s) {', '.join(map(str, failed))} failed and queued again" if failed else "")
+                          + (f"; a new worker runs its {left} remaining" if left > 0 else ""),
+                          file=sys.stderr, flush=True)
+                    if left > 0:
+                        start(next_index, left)
+                        next_index += 1
+            if any(e["kind"] in ("interrupt", "storage", "error") for e in ended.values()):
+                break
+            _quiet_db(lambda: bar.update(study))
+    except BaseException:  # Ctrl-C (it reaches the workers too, from a terminal) or a failure here
+        _stop_workers([p for p, _ in procs.values()])
+        _quiet_db(lambda: fail_dead_trials(study))
+        raise
+    if procs:  # one reported a failure: stop the others
+        _stop_workers([p for p, _ in procs.values()])
+        collect(0.2)
+    _quiet_db(lambda: fail_dead_trials(study))  # anything a stopped or dead worker left RUNNING
+    bad = [e for e in ended.values() if e["kind"] in ("interrupt", "storage", "error")]
+    if any(e["kind"] == "storage" for e in bad):
+        why = next(e["err"] for e in bad if e["kind"] == "storage")
+        raise StorageUnavailable(url, name, settings.reconnect_s, why)
+    if any(e["kind"] == "error" for e in bad):
+        why = "; ".join(f"worker {e['worker']}: {e['err']}" for e in bad if e["kind"] == "error")
+        raise RuntimeError(f"tuning workers failed: {why}")
+    if bad:  # Ctrl-C reached the workers before this process
+        raise KeyboardInterrupt
+    return [dict(worker=e["worker"], trials=e["trials"]) for _, e in sorted(ended.items())]

@@ -1,0 +1,331 @@
+"""A shared study under faults (issue 17): workers killed, the server restarted or gone, four workers on
+one SQLite file, Ctrl-C of the coordinator. Each test runs ``aero-env tune`` as a separate process against
+a real server (tests/postgres_server.py) or file, makes the fault happen at a point it observes in the
+storage (never after a sleep), and checks the study the run, or its resume, leaves behind.
+
+Trials are cheap (3 frames at ``sim.fidelity=mbd-fast``, random search); every wait has a generous safety
+limit that only a hung run reaches.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from aero_env.config import load_config
+from agents.design_eval import DesignEvaluator
+from agents.study_storage import PROCESS_ATTR
+
+from .conftest import PAPER
+from .postgres_server import PostgresMissing, postgres_cluster
+
+OVERRIDES = {"scene.frames": 3, "sim.fidelity": "mbd-fast"}
+LIMIT_S = 240  # safety net for a hung run; a healthy one takes seconds
+
+
+@pytest.fixture(scope="module")
+def pg():
+    """One real PostgreSQL server on loopback for the module (each test its own study); fails, never
+    skips, where PostgreSQL is not installed."""
+    try:
+        with postgres_cluster() as cluster:
+            yield cluster
+    except PostgresMissing as exc:
+        pytest.fail(str(exc))
+
+
+RUNS: list = []
+
+
+@pytest.fixture(autouse=True)
+def server_up(request):
+    """A test leaves no run behind (a failed one may have stopped or orphaned processes), and a test that
+    stopped the server leaves it running for the next one."""
+    yield
+    while RUNS:
+        RUNS.pop().kill_all()
+    if "pg" in request.fixturenames:
+        cluster = request.getfixturevalue("pg")
+        if not cluster.running:
+            cluster.start()
+
+
+class Run:
+    """``aero-env tune`` in a process of its own (stdout and stderr to files: no pipe to fill)."""
+
+    def __init__(self, tmp: Path, storage: str, study: str, trials: int, workers: int, *extra: str):
+        self.tmp = tmp
+        sets = [a for k, v in OVERRIDES.items() for a in ("--set", f"{k}={v}")]
+        self.args = ["tune", str(PAPER), *sets, "--sampler", "random", "--trials", str(trials), "--workers",
+                     str(workers), "--storage", storage, "--study", study, "--out", str(tmp / "best.yaml"),
+                     "--no-progress", *extra]
+        self.storage, self.study, self.trials = storage, study, trials
+        self.runs = 0
+        RUNS.append(self)
+        self.start()
+
+    def start(self, args: list[str] | None = None) -> None:
+        self.runs += 1
+        self.err_path = self.tmp / f"stderr{self.runs}.txt"
+        with open(self.tmp / f"stdout{self.runs}.txt", "w") as out, open(self.err_path, "w") as err:
+            self.proc = subprocess.Popen([sys.executable, "-m", "aero_env.cli", *(args or self.args)], cwd=self.tmp,
+                                         stdout=out, stderr=err, start_new_session=True)
+
+    @property
+    def stderr(self) -> str:
+        return self.err_path.read_text()
+
+    def wait(self) -> int:
+        try:
+            return self.proc.wait(timeout=LIMIT_S)
+        except subprocess.TimeoutExpired:
+            self.kill_all()
+            pytest.fail(f"aero-env tune still running after {LIMIT_S} s; stderr:\n{self.stderr[-3000:]}")
+
+    def resume(self) -> int:
+        self.start()
+        return self.wait()
+
+    def kill_all(self) -> None:
+        """SIGKILL the run's process group: coordinator and workers, nothing cleaned up."""
+        try:
+            os.killpg(self.proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        self.proc.wait()
+
+
+def reader(url: str):
+    import optuna
+
+    return optuna.storages.RDBStorage(url, engine_kwargs={"pool_pre_ping": True})
+
+
+def trials_of(storage, study: str) -> list:
+    """The study's trials straight from the database (no cache); [] before the run has made it."""
+    try:
+        study_id = storage.get_study_id_from_name(study)
+    except KeyError:
+        return []
+    return storage.get_all_trials(study_id, deepcopy=False)
+
+
+def wait_until(predicate, what: str, run: Run):
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < LIMIT_S:
+        got = predicate()
+        if got:
+            return got
+        if run.proc.poll() is not None:
+            pytest.fail(f"aero-env tune exited ({run.proc.returncode}) before {what}; stderr:\n{run.stderr[-3000:]}")
+        time.sleep(0.05)
+    pytest.fail(f"waited {LIMIT_S} s for {what}; stderr:\n{run.stderr[-3000:]}")
+
+
+def count(trials, state: str) -> int:
+    return sum(t.state.name == state for t in trials)
+
+
+def children(pid: int) -> list[int]:
+    """The processes whose parent is ``pid`` (the workers, and multiprocessing's resource tracker)."""
+    found = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                stat = Path(f"/proc/{entry}/stat").read_text()
+            except OSError:
+                continue
+            if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
+                found.append(int(entry))
+    return found
+
+
+def alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state not in ("Z", "X")
+
+
+def freeze_a_worker_mid_trial(run: Run, db, coordinator_too: bool = False) -> tuple[int, int]:
+    """Once 3 trials are COMPLETE, SIGSTOP a worker while its trial is RUNNING with its design drawn (and first
+    the coordinator, with ``coordinator_too``); (its pid, the trial's number). The trial stays RUNNING: only
+    that worker could finish it."""
+    names = {t.name for t in load_config(PAPER).tunable}
+
+    def frozen():
+        workers = set(children(run.proc.pid))
+        for t in trials_of(db, run.study):
+            pid = t.system_attrs.get(PROCESS_ATTR, {}).get("pid")
+            if t.state.name == "RUNNING" and pid in workers and set(t.params) == names:
+                os.kill(pid, signal.SIGSTOP)
+                again = next(u for u in trials_of(db, run.study) if u.number == t.number)
+                if again.state.name == "RUNNING":
+                    return pid, t.number
+                os.kill(pid, signal.SIGCONT)
+        return None
+
+    wait_until(lambda: count(trials_of(db, run.study), "COMPLETE") >= 3, "3 trials were COMPLETE", run)
+    if coordinator_too:  # it sees nothing of what follows
+        os.kill(run.proc.pid, signal.SIGSTOP)
+    return wait_until(frozen, "a worker's trial was RUNNING", run)
+
+
+def check_study(db, study: str, target: int) -> dict:
+    """Exactly ``target`` COMPLETE trials, numbered once each, nothing RUNNING; the trials by number."""
+    trials = trials_of(db, study)
+    numbers = [t.number for t in trials]
+    assert sorted(numbers) == list(range(len(trials))), "a trial number twice, or one missing"
+    assert count(trials, "COMPLETE") == target
+    assert count(trials, "RUNNING") == 0, [t.number for t in trials if t.state.name == "RUNNING"]
+    return {t.number: t for t in trials}
+
+
+def check_rerun(by_number: dict, killed: int) -> None:
+    """The killed trial FAILED, and its design was run again to COMPLETE."""
+    assert by_number[killed].state.name == "FAIL"
+    rerun = [t for t in by_number.values() if t.system_attrs.get("failed_trial") == killed]
+    assert [t.state.name for t in rerun] == ["COMPLETE"]
+    assert rerun[0].params == by_number[killed].params and rerun[0].number > killed
+
+
+def check_scores_do_not_depend_on_the_worker(by_number: dict) -> None:
+    """Every COMPLETE trial's value is what this process scores its design to, bit for bit."""
+    cfg = load_config(PAPER, OVERRIDES)
+    ev = DesignEvaluator(cfg, (0,))
+    done = [t for t in by_number.values() if t.state.name == "COMPLETE"]
+    assert len({t.user_attrs["worker"] for t in done}) >= 2
+    for t in done:
+        action = np.array([t.params[n] for n in ev.param_names])
+        assert ev.score(action).mean_reward == t.value, t.number
+
+
+def no_traceback(run: Run) -> None:
+    assert "Traceback" not in run.stderr, run.stderr[-3000:]
+
+
+# ---- a worker killed with SIGKILL ----
+
+def test_a_killed_workers_trial_is_failed_and_run_again_in_the_same_run(pg, tmp_path):
+    db = reader(pg.url)
+    run = Run(tmp_path, pg.url, "killed", 16, 2)
+    pid, killed = freeze_a_worker_mid_trial(run, db)
+    os.kill(pid, signal.SIGKILL)
+    assert run.wait() == 0, run.stderr[-3000:]
+    no_traceback(run)
+    assert f":{pid}:" in run.stderr and "killed by SIGKILL" in run.stderr  # the coordinator said what happened
+    by_number = check_study(db, "killed", 16)
+    check_rerun(by_number, killed)
+    check_scores_do_not_depend_on_the_worker(by_number)
+
+
+def test_a_run_killed_whole_resumes_failing_its_dead_trial_at_once(pg, tmp_path):
+    db = reader(pg.url)
+    run = Run(tmp_path, pg.url, "killed-all", 16, 2)
+    pid, killed = freeze_a_worker_mid_trial(run, db, coordinator_too=True)
+    run.kill_all()  # coordinator and workers: SIGKILL, nothing cleaned up
+    for child in children(run.proc.pid) + [pid]:
+        if alive(child):
+            os.kill(child, signal.SIGKILL)
+    before = trials_of(db, "killed-all")
+    assert next(t for t in before if t.number == killed).state.name == "RUNNING"
+    assert count(before, "COMPLETE") < 16
+    assert run.resume() == 0, run.stderr[-3000:]
+    no_traceback(run)
+    by_number = check_study(db, "killed-all", 16)
+    check_rerun(by_number, killed)
+    # failed by the resume's check that its process is gone, before the resumed run finished any trial
+    # (the heartbeat would fail it only 60 s after its last beat, when the run had finished the others)
+    resumed = [t for t in by_number.values() if t.number >= len(before) and t.state.name == "COMPLETE"]
+    assert resumed and by_number[killed].datetime_complete < min(t.datetime_complete for t in resumed)
+    said = re.search(r"trial\(s\) ([\d, ]+) were left RUNNING by processes gone from this host", run.stderr)
+    assert said and killed in [int(n) for n in said.group(1).split(", ")], run.stderr[-3000:]
+
+
+# ---- the server restarted, or gone for longer than the workers wait ----
+
+def test_workers_carry_on_through_a_server_restart(pg, tmp_path):
+    db = reader(pg.url)
+    run = Run(tmp_path, pg.url, "restarted", 40, 2)
+    wait_until(lambda: count(trials_of(db, "restarted"), "COMPLETE") >= 3, "3 trials were COMPLETE", run)
+    pg.stop()
+    wait_until(lambda: run.stderr.count("lost the database") >= 2, "both workers met the stopped server", run)
+    pg.start()
+    assert run.wait() == 0, run.stderr[-3000:]
+    no_traceback(run)
+    check_study(db, "restarted", 40)
+
+
+def test_a_server_down_too_long_stops_the_run_with_one_line_and_the_command_resumes_it(pg, tmp_path):
+    db = reader(pg.url)
+    run = Run(tmp_path, pg.url, "outage", 40, 2, "--reconnect", "2")
+    wait_until(lambda: count(trials_of(db, "outage"), "COMPLETE") >= 3, "3 trials were COMPLETE", run)
+    pg.stop()
+    assert run.wait() == 1
+    no_traceback(run)
+    stops = [line for line in run.stderr.splitlines() if line.startswith("aero-env tune: stopped:")]
+    assert len(stops) == 1 and "unreachable for 2 s" in stops[0], run.stderr[-3000:]
+    command = stops[0].split("rerun the same command to resume: ", 1)[1]
+    pg.start()
+    args = shlex.split(command)
+    assert args[0] == "aero-env" and args[1:] == run.args
+    run.start(args[1:])  # the command the line names, pasted
+    assert run.wait() == 0, run.stderr[-3000:]
+    check_study(db, "outage", 40)
+
+
+# ---- four local workers on one SQLite file ----
+
+def test_four_workers_share_a_sqlite_file_without_database_is_locked(tmp_path):
+    url = f"sqlite:///{tmp_path / 'four.db'}"
+    run = Run(tmp_path, url, "four", 48, 4)
+    assert run.wait() == 0, run.stderr[-3000:]
+    no_traceback(run)
+    assert "database is locked" not in run.stderr and "lost the database" not in run.stderr, run.stderr[-3000:]
+    db = reader(url)
+    by_number = check_study(db, "four", 48)
+    assert count(by_number.values(), "FAIL") == 0
+    assert len({t.user_attrs["worker"] for t in by_number.values()}) == 4
+
+
+# ---- Ctrl-C of the coordinator ----
+
+def test_ctrl_c_of_the_coordinator_stops_its_workers_and_the_study_resumes(pg, tmp_path):
+    db = reader(pg.url)
+    run = Run(tmp_path, pg.url, "ctrl-c", 30, 2)
+    wait_until(lambda: count(trials_of(db, "ctrl-c"), "COMPLETE") >= 3, "3 trials were COMPLETE", run)
+
+    def workers():  # both workers have run a trial
+        stamped = {t.system_attrs.get(PROCESS_ATTR, {}).get("pid") for t in trials_of(db, "ctrl-c")}
+        found = [p for p in children(run.proc.pid) if p in stamped]
+        return found if len(found) == 2 else None
+
+    workers = wait_until(workers, "both workers ran a trial", run)
+    os.kill(run.proc.pid, signal.SIGINT)  # the coordinator only, not its process group
+    assert run.wait() == 130, run.stderr[-3000:]
+    no_traceback(run)
+    assert [line for line in run.stderr.splitlines() if line.startswith("aero-env tune: interrupted after")]
+    assert not any(alive(p) for p in workers)
+    after = trials_of(db, "ctrl-c")
+    assert count(after, "RUNNING") == 0 and count(after, "COMPLETE") < 30
+    assert run.resume() == 0, run.stderr[-3000:]
+    check_study(db, "ctrl-c", 30)
+
+
+@pytest.mark.parametrize("seconds", [-1.0, float("nan"), 86401.0, True])
+def test_reconnect_is_checked(seconds):
+    from aero_env.config import ConfigError
+    from agents.tune import TuneSettings
+
+    with pytest.raises(ConfigError, match=r"--reconnect .*: seconds in \[0, 86400\]"):
+        TuneSettings(reconnect_s=seconds).check()
