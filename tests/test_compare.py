@@ -13,7 +13,7 @@ from aero_env import compare
 from aero_env.simulation import simulate
 
 from .conftest import PAPER
-
+from .test_models import SIGN_WINDOWS, signs_in
 
 # The analytical models leave out the skewer's and the axle's dry friction, as the paper's do; the
 # models are compared with the world built without them (the fitted friction's effect is tested below).
@@ -21,8 +21,8 @@ FRICTIONLESS = {"design.pivot_friction": 0.0, "design.axle_friction": 0.0}
 
 
 @pytest.fixture(scope="module")
-def summary(paper_cfg):
-    return compare.compare(paper_cfg.replace(FRICTIONLESS), swing=0)[0]
+def summary(summary_and_runs):
+    return summary_and_runs[0]
 
 
 def test_the_fitted_skewer_friction_slows_the_mbd_swing(paper_cfg, summary):
@@ -49,10 +49,30 @@ def test_theta1_acceleration_sign_changes(summary):
     assert len(mbd) >= 2 and mbd[0] < 125.0 < mbd[-1]
 
 
-def test_drag_changes_theta1_acceleration_by_a_few_percent_at_most(summary):
-    for name, m in summary["models"].items():
-        assert m["drag_alpha1_change"]["relative"] < 0.10, name  # measured: mbd 6.0 % on the parts-built robot
-        assert m["time_to_detach_angle_with_drag"] >= m["time_to_detach_angle"] - 1e-3, name
+@pytest.fixture(scope="module")
+def summary_and_runs(paper_cfg):
+    return compare.compare(paper_cfg.replace(FRICTIONLESS), swing=0)
+
+
+def test_drag_slows_every_model_by_what_the_drag_law_gives(summary_and_runs, paper_cfg):
+    summary, runs = summary_and_runs
+    m = summary["models"]
+    delay = {name: x["time_to_detach_angle_with_drag"] - x["time_to_detach_angle"] for name, x in m.items()}
+    # drag delays every model's arrival at the detach angle: the two-link model by 1.16 ms, the pymunk world
+    # by whole 0.5 ms steps (measured 2 steps), within a step and a half of the two-link model's delay
+    assert 5e-4 < delay["two_link"] < 5e-3 and 0 < delay["quasi_static"] < delay["two_link"]
+    assert delay["mbd"] >= paper_cfg.sim.dt and abs(delay["mbd"] - delay["two_link"]) <= 1.5 * paper_cfg.sim.dt
+    # the quasi-static model feels only the frame's drag: at each theta1 its theta1'' drops by
+    # (1/8)·rho·Cd·A·(La^4 + Lb^4)·theta1'^2 / I, here from the config and the dragged run's own speed
+    d = paper_cfg.design
+    k = d.rho * d.Cd * d.frame_width * (d.La**4 + d.Lb**4) / 8
+    inertia = (2 * d.m1 / 3 * (d.La**2 + d.Lb**2 - d.La * d.Lb) + d.m2 / 3 * (d.Ld**2 + d.Ld * d.Lc + d.Lc**2)
+               + d.m3 * (d.La**2 + d.h**2))
+    dragged = runs["quasi_static"][1]
+    expected = k * np.max(dragged.omega1**2) / inertia
+    assert m["quasi_static"]["drag_alpha1_change"]["max_change"] == pytest.approx(expected, rel=0.02)
+    for name in ("two_link", "quasi_static"):  # a small change (the paper: no noticeable difference)
+        assert 1e-4 < m[name]["drag_alpha1_change"]["relative"] < 0.02, name  # measured 0.40 %, 0.075 %
 
 
 def test_domain_map_marks_where_models_hold(paper_cfg, tmp_path):
@@ -86,11 +106,16 @@ def test_compare_cli_json(tmp_path):
     assert plot.stat().st_size > 10_000
 
 
-def test_mbd_accelerations_have_opposite_signs_over_part_of_the_swing(paper_cfg):
+def test_mbd_accelerations_have_opposite_signs_where_the_two_link_models_do(paper_cfg):
+    """The paper's finding in the pymunk world, window by window as in the two-link model (test_models):
+    both accelerate just after release, then theta1'' > 0 > theta2'' (62-90 deg), then the reverse (118-140)."""
     first = compare.mbd_swing(paper_cfg, 0)
     assert first.outcome == "completed"
-    opposite = (first.run.alpha1 * first.run.alpha2) < 0
-    assert 0.1 < opposite.mean() < 0.9  # the paper's key finding holds in the pymunk world too
+    for (lo, hi), (a1_up, a2_up) in SIGN_WINDOWS:
+        up1, up2 = signs_in(first.run, lo, hi)  # the world's accelerations are differenced from its trace
+        assert abs(up1 - a1_up) <= 0.05 and abs(up2 - a2_up) <= 0.05, (lo, hi, up1, up2)  # measured: all samples
+    share = np.mean(first.run.alpha1 * first.run.alpha2 < 0)
+    assert share == pytest.approx(0.7, abs=0.2)  # the paper's share (measured 0.60)
 
 
 @pytest.fixture(scope="module")

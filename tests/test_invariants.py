@@ -22,169 +22,20 @@ on the runner's 5 ms check cadence) and recomputes:
 
 The observer wraps :meth:`World.step` (a subclass patched into :mod:`aero_env.physics.run` for the
 length of one run), so the runner's events (catches moving the live window) happen as in any run.
-Engine units are mm, g, s (``aero_env.units``); the conversions below are written out here.
+The measurements live in :mod:`tests.invariants` (shared with the hard cases and the property tests,
+which judge every run by them); this module checks them on scenes where the answer is known.
 """
 
 from __future__ import annotations
 
 import math
-from unittest import mock
 
-import pymunk
 import pytest
 
-import aero_env.physics.run as run_module
-from aero_env.physics.world import World
-
-G = 9.81  # m/s^2, the brief's g
-MM = 1e-3  # m per engine length unit
-GRAM = 1e-3  # kg per engine mass unit
-AUDIT_EVERY = 25  # steps between reads of World.energy for the audit
-
-
-# ------------------------------------------------------------------------- independent measurements
-def mechanical_energy(bodies, arm, torso, k_si: float, alpha_min: float) -> float:
-    """Kinetic + gravitational energy of ``bodies`` and the leaf spring's (J), from pymunk's body state.
-
-    pymunk's ``velocity`` is the centre of gravity's; its height comes from ``local_to_world``.
-    The spring is linear, torque k·(alpha - alpha_min), alpha the interior angle at the axle
-    (arm +x against torso -y: alpha = arm.angle - torso.angle + 90 deg); ``arm`` None: no spring."""
-    e = 0.0
-    for b in bodies:
-        m, inertia = b.mass * GRAM, b.moment * GRAM * MM * MM
-        v = b.velocity * MM
-        y = b.local_to_world(b.center_of_gravity).y * MM
-        e += 0.5 * m * (v.x * v.x + v.y * v.y) + 0.5 * inertia * b.angular_velocity ** 2 + m * G * y
-    if arm is not None:
-        da = arm.angle - torso.angle + math.pi / 2 - alpha_min
-        e += 0.5 * k_si * da * da
-    return e
-
-
-def kinetic_energy(bodies) -> float:
-    """The kinetic part alone (J): shows that a conserving swing did trade energy."""
-    return sum(0.5 * b.mass * GRAM * (b.velocity * MM).length_squared
-               + 0.5 * b.moment * GRAM * MM * MM * b.angular_velocity ** 2 for b in bodies)
-
-
-def hook_depth(hook: pymunk.Circle, rails) -> float:
-    """How deep the hook's disc overlaps any of the ``rails`` (engine units; 0 when apart): its radius
-    minus the signed distance from its centre to the rail's surface by pymunk's ``point_query``
-    (negative inside), which for a disc against a rounded segment is the overlap along the normal.
-
-    Not the deepest of points sampled on the hook's boundary: those cannot sink deeper than the card's
-    half-thickness (0.5 mm), since a hook straddling the card has its whole boundary outside it. The
-    prototype's catches reach that: sampled boundary points read 0.4999 mm where the overlap is 0.56 mm."""
-    centre = hook.body.local_to_world(hook.offset)
-    depth = 0.0
-    for rail in rails:
-        depth = max(depth, hook.radius - rail.point_query(centre).distance)
-    return depth
-
-
-def _gap(a: pymunk.Vec2d, b: pymunk.Vec2d) -> float:
-    return (a - b).length
-
-
-class Observer:
-    """Reads a world's pymunk bodies and shapes after each step; keeps one row per step (SI)."""
-
-    def __init__(self, world: World):
-        cfg = world.cfg
-        d, s = cfg.design, cfg.scene
-        self.world = world
-        self.frames = [f.body for f in world.frames]
-        self.robot_bodies = list(world.robot.bodies)
-        self.pinned = cfg.scene.effects.hook == "pin"
-        if self.pinned:
-            self.torso = self.arm = None
-        else:
-            self.torso, self.arm = self.robot_bodies
-        self.k, self.alpha_min = d.spring_k, math.radians(d.alpha_min_deg)
-        self.axes = [pymunk.Vec2d(i * s.pitch / MM, i * s.rise / MM) for i in range(s.frames)]
-        self.seat = pymunk.Vec2d(-d.Lb / MM, 0.0)
-        hooks = [sh for b in self.robot_bodies for sh in b.shapes if isinstance(sh, pymunk.Circle)]
-        assert len(hooks) == (0 if self.pinned else 1), "the contact robot carries exactly one hook circle"
-        self.hook = hooks[0] if hooks else None
-        self.rows: list[dict] = []
-        self()  # the state before the first step
-
-    def energy(self) -> float:
-        counted = set(self.frames) | set(self.robot_bodies)
-        stray = [b for b in self.world.space.bodies if b.body_type == pymunk.Body.DYNAMIC and b not in counted]
-        assert not stray, f"{len(stray)} dynamic bodies in the space that the energy would not count"
-        return mechanical_energy(self.frames + self.robot_bodies, self.arm, self.torso, self.k, self.alpha_min)
-
-    def drift(self) -> tuple[float, float, float]:
-        """(worst skewer, robot axle or pinned hook, any PivotJoint in the space), m."""
-        skewer = max(_gap(axis, b.local_to_world((0.0, 0.0))) for axis, b in zip(self.axes, self.frames))
-        if self.pinned:
-            robot = _gap(self.frames[0].local_to_world(self.seat), self.robot_bodies[0].local_to_world((0.0, 0.0)))
-        else:
-            robot = _gap(self.torso.local_to_world((0.0, 0.0)), self.arm.local_to_world((0.0, 0.0)))
-        joints = [c for c in self.world.space.constraints if isinstance(c, pymunk.PivotJoint)]
-        any_joint = max((_gap(c.a.local_to_world(c.anchor_a), c.b.local_to_world(c.anchor_b)) for c in joints),
-                        default=0.0)
-        return skewer * MM, robot * MM, any_joint * MM
-
-    def depth(self) -> float:
-        if self.hook is None:
-            return 0.0
-        rails = [sh for sh in self.world.space.shapes
-                 if isinstance(sh, pymunk.Segment) and sh.body.body_type == pymunk.Body.DYNAMIC]
-        return hook_depth(self.hook, rails) * MM
-
-    def __call__(self) -> None:
-        w = self.world
-        skewer, robot, any_joint = self.drift()
-        row = {"t": w.t, "active": w.active, "theta1": w.frames[w.active].body.angle, "energy": self.energy(),
-               "kinetic": kinetic_energy(self.frames + self.robot_bodies),
-               "skewer": skewer, "robot_joint": robot, "any_joint": any_joint, "depth": self.depth()}
-        if len(self.rows) % AUDIT_EVERY == 0:
-            row["world_energy"] = w.energy()  # for the audit test only; no check here uses it
-        self.rows.append(row)
-
-    def column(self, key: str, t_from: float = -math.inf, t_to: float = math.inf) -> list[float]:
-        return [r[key] for r in self.rows if t_from <= r["t"] < t_to]
-
-
-def observed_run(cfg):
-    """Run ``cfg`` through the runner with an :class:`Observer` after every step: (result, observer)."""
-    seen: list[Observer] = []
-
-    class ObservedWorld(World):
-        def __init__(self, cfg):
-            super().__init__(cfg)
-            seen.append(Observer(self))
-
-        def step(self):
-            super().step()
-            seen[0]()
-
-    with mock.patch.object(run_module, "World", ObservedWorld):
-        result = run_module.simulate(cfg)
-    assert seen, "simulate() no longer builds its world as aero_env.physics.run.World: observe it another way"
-    return result, seen[0]
-
-
-def stepped(cfg, until, t_max: float = 2.0):
-    """Step a bare :class:`World` (no runner) with an :class:`Observer` until ``until(world)``, or
-    ``t_max`` simulated seconds (a broken world may never get there; the tests check where it got)."""
-    world = World(cfg)
-    obs = Observer(world)
-    while not until(world) and world.t < t_max:
-        world.step()
-        obs()
-    obs.reached = until(world)
-    return world, obs
-
+from .invariants import AUDIT_EVERY, observed_run, stepped, swing_scale
 
 # ------------------------------------------------------------------------- scenes
-# The energy scale of a swing, S = (m2 + m3)·g·(La + Lb): the robot and the counterbalance falling the
-# frame's length (0.0146 J for the prototype). Conservation tolerances are fractions of it.
-def swing_scale(d) -> float:
-    return (d.m2 + d.m3) * G * (d.La + d.Lb)
-
+# Conservation tolerances are fractions of the swing's energy scale S = (m2 + m3)·g·(La + Lb) (swing_scale).
 
 # No skewer or axle friction, no drag. The frictionless notch (mu = 0) keeps the hook's contact
 # workless too: its normal force does no work on a seated hook (with friction the tip, which turns in

@@ -64,19 +64,65 @@ def test_two_link_conserves_energy_and_drag_only_removes_it(paper_cfg):
     assert np.all(np.diff(ed) <= 1e-15) and ed[-1] < ed[0]
 
 
+def signs_in(run, lo_deg, hi_deg):
+    """(share of theta1'' > 0, share of theta2'' > 0) over the samples with theta1 in [lo, hi) deg."""
+    sel = (run.theta1 >= R(lo_deg)) & (run.theta1 < R(hi_deg))
+    assert sel.sum() >= 10, (lo_deg, hi_deg, sel.sum())
+    return float(np.mean(run.alpha1[sel] > 0)), float(np.mean(run.alpha2[sel] > 0))
+
+
+# Where the two links' accelerations have opposite signs (the paper: "for much of the swing", 0.7 of it, loose).
+# Measured on the prototype in the two-link model and in the pymunk world alike: just after release both
+# accelerate (55-58 deg); from 62 to 90 deg the frame speeds up while the robot's line swings back
+# (theta1'' > 0 > theta2''); from 118 to 140 deg the roles swap (theta1'' < 0 < theta2''). Share of the swing
+# with opposite signs: two-link 0.65, world 0.60.
+SIGN_WINDOWS = [((55, 58), (True, True)), ((62, 90), (True, False)), ((118, 140), (False, True))]
+
+
 def test_accelerations_have_opposite_signs_over_part_of_the_swing(paper_cfg):
-    res = two_link.simulate(paper_cfg.design, R(55), R(81), until_theta1=R(165))
-    opposite = np.sign(res.alpha1) * np.sign(res.alpha2) < 0
-    assert 0.1 < opposite.mean() < 0.9  # the paper's key finding: the links work against each other
-
-
-def test_drag_changes_alpha1_by_a_few_percent_at_most(paper_cfg):
     d = paper_cfg.design
+    res = two_link.simulate(d, R(55), R(81), until_theta1=R(165))
+    for (lo, hi), (a1_up, a2_up) in SIGN_WINDOWS:
+        assert signs_in(res, lo, hi) == (float(a1_up), float(a2_up)), (lo, hi)
+    # the accelerations are the brief's equations' (A25, A30) on the model's own states: same signs everywhere
+    by_hand = np.array([_eta_by_hand(d, *y) for y in zip(res.theta1, res.theta2, res.omega1, res.omega2)])
+    assert np.array_equal(np.sign(by_hand[:, 0] * by_hand[:, 1]), np.sign(res.alpha1 * res.alpha2))
+    share = np.mean(res.alpha1 * res.alpha2 < 0)  # samples are equally spaced in time
+    assert share == pytest.approx(0.7, abs=0.2)  # the paper's share (measured 0.65)
+
+
+def drag_power_by_hand(d, th1, th2, w1, w2):
+    """W: the power the brief's quadratic drag takes out, integrated along each strip by hand (401 points),
+    from the config's rho, Cd and widths. The frame: both arms, normal speed r·theta1' at radius r. The
+    robot: the line from the joint (the seat, at Lb) to its centre (Lc), normal speed
+    Lb·theta1'·cos(theta1 - theta2) + l·theta2' at l from the joint."""
+    r = np.linspace(0.0, 1.0, 401)
+    frame = sum(np.trapezoid(np.abs(np.outer(w1, r * L)) ** 3, r * L, axis=1) for L in (d.La, d.Lb))
+    l = r * d.Lc
+    vn = np.outer(d.Lb * w1 * np.cos(th1 - th2), np.ones_like(l)) + np.outer(w2, l)
+    robot = np.trapezoid(np.abs(vn) ** 3, l, axis=1)
+    return 0.5 * d.rho * d.Cd * (d.frame_width * frame + d.robot_width * robot)
+
+
+def test_drag_takes_out_exactly_its_work_and_slows_the_frame_a_little(paper_cfg):
+    d = paper_cfg.design
+    c = two_link.coefficients(d)
     a = two_link.simulate(d, R(55), R(81), until_theta1=R(165))
     b = two_link.simulate(d, R(55), R(81), until_theta1=R(165), drag=True)
+    # the energy the dragged swing loses is the drag's work, computed here from the drag law (measured 1.5e-6 J,
+    # agreeing to 6e-7 of it); a drag that did nothing, or twice too much, fails here
+    e = two_link.energy(c, b.theta1, b.theta2, b.omega1, b.omega2)
+    p = drag_power_by_hand(d, b.theta1, b.theta2, b.omega1, b.omega2)
+    work = np.concatenate([[0.0], np.cumsum(0.5 * (p[1:] + p[:-1]) * np.diff(b.t))])
+    assert work[-1] > 1e-6
+    assert np.abs((e[0] - e) - work).max() < 1e-4 * work[-1]
+    # at every angle the dragged frame accelerates less, by 0.05-1 % of the swing's largest theta1''
+    # (measured 0.23 %: the paper's "no noticeable difference"), and reaches 165 deg later (measured +0.5 ms)
     grid = np.radians(np.linspace(56, 164, 300))
     diff = np.interp(grid, b.theta1, b.alpha1) - np.interp(grid, a.theta1, a.alpha1)
-    assert np.abs(diff).max() / np.abs(a.alpha1).max() < 0.05
+    assert np.all(diff < 0)
+    assert 5e-4 < np.abs(diff).max() / np.abs(a.alpha1).max() < 0.01
+    assert 1e-4 < b.t_until - a.t_until < 5e-3
 
 
 def test_batch_fast_path_matches_the_integrator(paper_cfg):

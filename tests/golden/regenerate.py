@@ -4,8 +4,9 @@
 
 Run it only on purpose, when a change is meant to alter the physics; commit the new file with
 the change and say why in the commit message. tests/test_hard_cases.py checks that the code
-reproduces the record bit for bit: every event (catch, detach, angles, energies, health) at full
-precision, and a SHA-256 of every trace row.
+reproduces the record bit for bit on this platform: every event (catch, detach, angles, energies,
+health) at full precision, and a SHA-256 of every trace row; and, for any platform (another libm),
+that it agrees within the tolerances measured in tests/golden/tolerances.py.
 """
 
 from __future__ import annotations
