@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from importlib.metadata import PackageNotFoundError, entry_points, version
 
@@ -199,6 +200,9 @@ def _domain_table(dm) -> str:
 
 def cmd_schema(_args) -> int:
     rows = schema_rows()
+    print("Values are SI in the unit shown. In a YAML config and in --set a number may carry its unit instead "
+          "(design.m2=7.71g, design.La='48.3 mm', design.spring_k='0.877 N*mm/rad', design.rest_angle_deg='55 deg'); "
+          "a plain number is always in the unit shown.\n")
     print("| key | default | unit | allowed | meaning |")
     print("|---|---|---|---|---|")
     for key, default, unit, allowed, doc in rows:
@@ -265,6 +269,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:  # commands that keep something (tune, train) say what before this
         print(f"aero-env {args.command}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # `aero-env schema | head`: the reader has what it wanted; no traceback
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # so the exit's flush cannot raise again
+        return 141  # the shell's status for a process ended by SIGPIPE
 
 
 if __name__ == "__main__":

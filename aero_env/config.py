@@ -28,7 +28,7 @@ at most 10 cm a frame), so that a plain number written in the usual smaller unit
 (``design.m2=7.7`` for 7.7 g) is out of range and the error asks "did you mean 7.7 g?".
 
 Every field is declared once below with its default, unit, allowed range and meaning;
-the README's schema table is generated from the same declarations (``aero-env schema``).
+the schema table of docs/configuration.md is generated from the same declarations (``aero-env schema``).
 ``load_config(path, overrides={"design.m2": 0.008})`` returns a validated, immutable
 :class:`Config`. Bad input raises :class:`ConfigError` naming the key, the value and
 the allowed range.
@@ -140,7 +140,7 @@ class Scene:
 # geometric catch test (no pymunk; ``dt`` is then its integration step). ``reference`` is the step
 # and iteration count past which refining (half the step, twice the iterations) keeps the traversal count of >= 99 %
 # of random designs and moves the median first detach by <= one default step (measured: 99.0 %,
-# 0.19 ms on 200 designs): README "What accuracy costs in time" gives the study and the rungs.
+# 0.19 ms on 200 designs): docs/fidelity.md, "The ladder, measured", gives the study and the rungs.
 FIDELITY_PRESETS: dict[str, dict[str, Any]] = {
     "reduced": dict(model="reduced", dt=0.004, iterations=1, substeps=1),
     "mbd-fast": dict(model="mbd", dt=0.001, iterations=30, substeps=1),
@@ -203,8 +203,11 @@ class EnvOptions:
 
     action_out_of_box: str = spec("error", "-", "an action outside [-1, 1]: error names the dimension; clip clips it "
                                   "(NaN is always an error)", choices=("error", "clip"))
-    reward_shaping: float = spec(0.0, "-", "partial credit for the failed transfer: reward = traversals + "
-                                 "reward_shaping·max(0, 1 - miss_distance/pitch); 0 = off", 0.0, 0.99)
+    reward_shaping: float = spec(0.0, "-", "partial credit for a failed transfer that flew (the hook let go): "
+                                 "reward = traversals + reward_shaping·max(0, 1 - miss_distance/pitch); a hook that "
+                                 "never let go (stalled, no_detach) earns none; 0 = off", 0.0, 0.99)
+    record_trace: bool = spec(False, "-", "keep each step's time series (angles, speeds, energy every sim.trace_every "
+                              "steps) in env.unwrapped.last_run.trace; off: last_run holds the summary only")
     render_width: int = spec(720, "px", "width of rendered frames", 64, 4096)
     render_height: int = spec(300, "px", "height of rendered frames", 64, 4096)
     render_slowmo: float = spec(4.0, "-", "rendered animations play this many times slower than real time",
@@ -220,11 +223,14 @@ class Tunable:
     """One action dimension: a design or scene number and the range the action maps onto."""
 
     name: str = _item("dotted key of a real-valued design or scene field, e.g. design.m3")
-    low: float = _item("value at action -1", "field's")
-    high: float = _item("value at action +1 (above low)", "field's")
+    low: float = _item("value at action -1 (with relative_to: a multiple of that field's value)", "field's")
+    high: float = _item("value at action +1, above low (with relative_to: a multiple)", "field's")
     scale: str = _item("linear, or log (geometric; low > 0)", default="linear")
     linked: tuple = _item("keys scaled by the same factor as this one, keeping their ratio to it "
                           "(design.mu_k with design.mu_s keeps the friction pair's ratio)", default=())
+    relative_to: str | None = _item("a dotted key: low and high are then multiples of that field's value in the "
+                                    "config, so the range follows the scene (absent: low and high are in the "
+                                    "field's own unit)", default=None)
 
 
 @dataclass(frozen=True)
@@ -247,12 +253,17 @@ class Tolerance:
 
 # The default design problem: the frame's counterbalance (m3, h, La), the leaf spring, and the
 # card pair of the hook (mu_s, with mu_k kept at the pair's ratio). The robot's mass, the
-# row's rise and pitch are what the designer is given. The prototype lies inside every range.
+# row's rise and pitch are what the designer is given. The ranges follow the scene: the
+# counterbalance's mass scales with the robot it balances, its place with the frame's arm La,
+# and the spring with its own value, so a smaller toy (``--set design.La=0.029``) is searched
+# around its own size. On the prototype they span 3.9-12.3 g, -9.7-19.3 mm, 36-65 mm and
+# 0.19-3.9 N·mm/rad, and the prototype lies inside every range. The card pair's friction is a
+# property of the card, not of the toy's size, so its range is absolute.
 DEFAULT_TUNABLES = (
-    Tunable("design.m3", 0.004, 0.012),
-    Tunable("design.h", -0.01, 0.02),
-    Tunable("design.La", 0.035, 0.065),
-    Tunable("design.spring_k", 2e-4, 4e-3, "log"),
+    Tunable("design.m3", 0.5, 1.6, relative_to="design.m2"),
+    Tunable("design.h", -0.2, 0.4, relative_to="design.La"),
+    Tunable("design.La", 0.75, 1.35, relative_to="design.La"),
+    Tunable("design.spring_k", 0.22, 4.5, "log", relative_to="design.spring_k"),
     Tunable("design.mu_s", 0.2, 1.5, "log", linked=("design.mu_k",)),
 )
 DEFAULT_CONTEXT = (ContextRange("scene.rise"), ContextRange("scene.pitch"), ContextRange("design.m2"))
@@ -267,6 +278,26 @@ class Config:
     context: tuple[ContextRange, ...] = DEFAULT_CONTEXT
     tolerance: tuple[Tolerance, ...] = ()
     env: EnvOptions = field(default_factory=EnvOptions)
+
+    def tunable_range(self, t: Tunable) -> tuple[float, float]:
+        """``t``'s ``(low, high)`` in its field's unit: as written, or times ``t.relative_to``'s value here.
+
+        A relative range is checked here, when the design problem is posed (the environment, a tuner),
+        not when the config is read: ``aero-env simulate`` ignores the tunables, so a scene scaled past
+        where its relative ranges fit the fields' ranges still simulates."""
+        if t.relative_to is None:
+            return t.low, t.high
+        i = self.tunable.index(t)
+        base = float(self.value(t.relative_to))
+        if not base > 0:
+            raise ConfigError(f"tunable[{i}].relative_to = {t.relative_to!r}: its value in this config is {base!r}; a "
+                              f"range relative to it needs a value > 0 (or give {t.name}'s low and high in its unit)")
+        low, high = t.low * base, t.high * base
+        f = real_field(t.name, f"tunable[{i}].name")
+        for key, v in (("low", low), ("high", high)):
+            _check_value(f"tunable[{i}].{key} ({getattr(t, key):g} x {t.relative_to} = {v:.6g}, a value of {t.name})",
+                         f, v)
+        return low, high
 
     def to_dict(self) -> dict:
         """Plain dicts and lists (YAML-ready); ``from_dict(cfg.to_dict())`` gives ``cfg`` back.
@@ -576,7 +607,12 @@ def _tunable(entry, where, name, f) -> Tunable:
     for key in ("low", "high"):
         if key not in entry:
             raise ConfigError(f"{where}.{key}: missing; the value of {name} at action {'-1' if key == 'low' else '+1'}")
-    low, high = _bound(entry, "low", where, name, f), _bound(entry, "high", where, name, f)
+    relative_to = entry.get("relative_to")
+    if relative_to is not None:
+        real_field(relative_to, f"{where}.relative_to")
+        low, high = (_factor(entry[key], f"{where}.{key}", relative_to) for key in ("low", "high"))
+    else:
+        low, high = _bound(entry, "low", where, name, f), _bound(entry, "high", where, name, f)
     if not low < high:
         raise ConfigError(f"{where}.high = {high!r}: must exceed {where}.low = {low!r}, allowed ({low}, "
                           f"{f.metadata['hi']}]")
@@ -592,7 +628,16 @@ def _tunable(entry, where, name, f) -> Tunable:
         real_field(key, f"{where}.linked[{j}]")
         if key == name:
             raise ConfigError(f"{where}.linked[{j}] = {key!r}: a field cannot be linked to itself")
-    return Tunable(name, low, high, scale, tuple(str(k) for k in linked))
+    return Tunable(name, low, high, scale, tuple(str(k) for k in linked),
+                   None if relative_to is None else str(relative_to))
+
+
+def _factor(value: Any, where: str, relative_to: str) -> float:
+    """A bound of a relative range: a plain finite number, a multiple of ``relative_to``'s value."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ConfigError(f"{where} = {value!r}: with relative_to {relative_to}, low and high are plain numbers "
+                          f"(multiples of {relative_to}'s value in the config, e.g. 0.75 and 1.35), not quantities")
+    return float(value)
 
 
 def _context(entry, where, name, f) -> ContextRange:

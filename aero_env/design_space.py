@@ -1,7 +1,8 @@
 """The design problem a config poses: actions to designs, the drawn context, tolerances.
 
 A config's ``tunable`` list is the action space: action ``a`` in [-1, 1] maps onto
-``[low, high]`` linearly (``low + (a + 1)/2·(high - low)``) or geometrically
+``[low, high]`` (for a tunable with ``relative_to``, those multiplied by that field's value in
+the config: :meth:`Config.tunable_range`) linearly (``low + (a + 1)/2·(high - low)``) or geometrically
 (``low·(high/low)^((a + 1)/2)``). A tunable's ``linked`` fields follow it by the same
 factor relative to the config's values (so mu_k keeps its ratio to mu_s).
 
@@ -55,17 +56,19 @@ class DesignSpace:
             if t.linked and cfg.value(t.name) <= 0:  # checked here, not at load: simulate ignores tunables
                 raise ConfigError(f"tunable[{i}].linked: the links scale by {t.name} / its config value, which is "
                                   f"{cfg.value(t.name)!r}; allowed only when that value is > 0")
+        # each tunable's (low, high) in its field's unit, a relative range resolved on this config's values
+        self.ranges = tuple(cfg.tunable_range(t) for t in self.tunables)
         self._check_corners()
 
     # ---- actions <-> designs ----
     def values(self, action: np.ndarray) -> dict[str, float]:
         """Tunable (and linked) field values, SI, for an in-box action."""
         out: dict[str, float] = {}
-        for t, a in zip(self.tunables, action):
+        for t, (low, high), a in zip(self.tunables, self.ranges, action):
             x = (float(a) + 1.0) / 2.0
             # low·(1-x) + high·x gives low and high exactly at the box's edges
-            v = t.low * (t.high / t.low) ** x if t.scale == "log" else t.low * (1.0 - x) + t.high * x
-            v = min(max(v, t.low), t.high)  # rounding must never step outside the declared range
+            v = low * (high / low) ** x if t.scale == "log" else low * (1.0 - x) + high * x
+            v = min(max(v, low), high)  # rounding must never step outside the declared range
             out[t.name] = v
             if t.linked:
                 factor = v / self.cfg.value(t.name)
@@ -83,11 +86,11 @@ class DesignSpace:
                 why = f"it follows {linked[0]} (linked)" if linked else "it is not tunable"
                 raise ConfigError(f"action_for: {key!r} cannot be chosen, {why}; tunable fields: {sorted(tuned)}")
         a = np.empty(self.dim, dtype=np.float32)
-        for i, t in enumerate(self.tunables):
+        for i, (t, (low, high)) in enumerate(zip(self.tunables, self.ranges)):
             v = float(values.get(t.name, self.cfg.value(t.name)))
-            if not t.low <= v <= t.high:
-                raise ConfigError(f"{t.name} = {v!r}: outside tunable[{i}]'s range [{t.low}, {t.high}]")
-            x = math.log(v / t.low) / math.log(t.high / t.low) if t.scale == "log" else (v - t.low) / (t.high - t.low)
+            if not low <= v <= high:
+                raise ConfigError(f"{t.name} = {v!r}: outside tunable[{i}]'s range [{low:.6g}, {high:.6g}]")
+            x = math.log(v / low) / math.log(high / low) if t.scale == "log" else (v - low) / (high - low)
             a[i] = 2.0 * x - 1.0
         return a
 

@@ -101,3 +101,11 @@ def smaller_unit_hint(value: float, unit: str, fits) -> str:
     if not fits(si):
         return ""
     return f"; did you mean {value:g} {small}? (a plain number is {unit}; write {value:g}{small} or {si:g})"
+
+
+def in_maker_units(value: float, unit: str) -> tuple[float, str]:
+    """``value`` (in ``unit``, SI) in the usual smaller unit a maker reads (mm, g, N·mm/rad), for tables."""
+    smaller = SMALLER.get(unit)
+    if smaller is None:
+        return value, "" if unit == "-" else unit
+    return value / UNITS[unit][smaller], smaller.replace("*", "·")

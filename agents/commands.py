@@ -45,6 +45,9 @@ def register(sub, scene_command) -> None:
                          "(reduced: one vectorised batch), then confirm the best --trials of them at the config's own "
                          f"fidelity; one of {', '.join(FIDELITY_PRESETS)} (absent: no screen)")
     tp.add_argument("--screen-designs", type=int, default=20000, metavar="M", help="designs the screen scores")
+    tp.add_argument("--reconnect", type=float, default=120.0, metavar="SECONDS",
+                    help="how long each process retries a lost database (bounded backoff) before the run stops; "
+                         "rerunning the same command then resumes the study")
     tp.set_defaults(func=cmd_tune)
 
     rp = scene_command(sub, "train", "train a policy that maps the scene's context to a design (stable-baselines3)")
@@ -71,12 +74,25 @@ def register(sub, scene_command) -> None:
     ep.add_argument("run_dir", metavar="DIR", help="a directory written by aero-env train")
     ep.add_argument("--episodes", type=int, default=20, help="episodes, one per seed")
     ep.add_argument("--seed", type=int, default=0, help="first episode seed")
+    ep.add_argument("--config", metavar="FILE.yaml",
+                    help="evaluate on this scene instead of the one it was trained on (the same context and tunable "
+                         "fields; their ranges may differ)")
+    ep.add_argument("--set", action="append", metavar="KEY=VALUE",
+                    help="override a value of the scene evaluated on (repeatable), e.g. --set scene.rise=4mm")
     ep.add_argument("--json", action="store_true", help="print one JSON object instead of the summary")
     ep.set_defaults(func=cmd_evaluate)
 
 
+def _same_command() -> str:
+    """The command line this process runs, fit to paste: how a stopped study resumes."""
+    import shlex
+
+    return shlex.join(["aero-env", *sys.argv[1:]])
+
+
 def cmd_tune(args) -> int:
-    from .tune import TuneInterrupted, TuneSettings, plot_history, redact, summary_lines, tune, write_best_yaml
+    from .study_faults import StorageUnavailable, redact
+    from .tune import TuneInterrupted, TuneSettings, plot_history, summary_lines, tune, write_best_yaml
 
     out = Path(args.out)
     plot = Path(args.plot) if args.plot else out.with_name(f"{out.stem}_history.png")
@@ -85,7 +101,7 @@ def cmd_tune(args) -> int:
     settings = TuneSettings(sampler=args.sampler, trials=args.trials, seeds_per_design=args.seeds_per_design,
                             seed=args.seed, storage=args.storage, study=args.study, workers=args.workers,
                             progress=not args.no_progress, screen=args.screen,
-                            screen_designs=args.screen_designs).check()
+                            screen_designs=args.screen_designs, reconnect_s=args.reconnect).check()
     cfg = load_scene(args)
     try:
         result = tune(cfg, settings, config_name=Path(args.config).stem)
@@ -101,10 +117,14 @@ def cmd_tune(args) -> int:
                    "sqlite:///aero-env-tune.db (or --study NAME)")
         else:
             how = (f"its finished trials are kept in study {stop.study!r} ({redact(stop.storage)}): rerun the same "
-                   f"command to resume")
+                   f"command to resume: {_same_command()}")
         print(f"aero-env tune: interrupted after {stop.finished} of {stop.target} trials; {kept}; {how}",
               file=sys.stderr)
         return INTERRUPTED
+    except StorageUnavailable as lost:
+        print(f"aero-env tune: stopped: {lost}; the study's finished trials are kept in study {lost.study!r}: once "
+              f"the database is back, rerun the same command to resume: {_same_command()}", file=sys.stderr)
+        return 1
     write_best_yaml(cfg, result, out)
     plot_history(result, plot)
     if args.json:
@@ -144,14 +164,49 @@ def cmd_train(args) -> int:
 
 
 def cmd_evaluate(args) -> int:
-    from .rl import evaluate
+    from .rl import check_run_files, evaluate
 
-    rep = evaluate(args.run_dir, episodes=args.episodes, seed=args.seed)
+    run_dir = check_run_files(args.run_dir)
+    scene = None
+    if args.config or args.set:
+        from aero_env.config import load_config, parse_override
+
+        overrides = dict(parse_override(s) for s in args.set or [])
+        # without --config, --set changes the scene the policy was trained on (its config.yaml in DIR)
+        scene = load_config(args.config or run_dir / "config.yaml", overrides)
+    rep = evaluate(args.run_dir, episodes=args.episodes, seed=args.seed, config=scene)
     if args.json:
         print(json.dumps(rep, indent=2))
-    else:
-        print(f"{rep['algo']} policy over {rep['episodes']} episodes (seeds {rep['seeds'][0]}..{rep['seeds'][1]}): "
-              f"reward {rep['mean_reward']:.3f} ± {rep['std_reward']:.3f} (min {rep['min_reward']:g}, max "
-              f"{rep['max_reward']:g}); whole row ({rep['full_row']}) in {100 * rep['full_row_fraction']:.0f} %")
-        print("outcomes: " + ", ".join(f"{k} {v}" for k, v in rep["outcomes"].items()))
+        return 0
+    print(f"{rep['algo']} policy over {rep['episodes']} episodes (seeds {rep['seeds'][0]}..{rep['seeds'][1]}): "
+          f"reward {rep['mean_reward']:.3f} ± {rep['std_reward']:.3f} (min {rep['min_reward']:g}, max "
+          f"{rep['max_reward']:g}); whole row ({rep['full_row']}) in {100 * rep['full_row_fraction']:.0f} %")
+    print("outcomes: " + ", ".join(f"{k} {v}" for k, v in rep["outcomes"].items()))
+    print("\n".join(design_table(rep)))
     return 0
+
+
+def design_table(rep: dict) -> list[str]:
+    """The design the policy chose for each episode's context: the varied context fields, then the design."""
+    from aero_env.config import real_field
+    from aero_env.quantities import in_maker_units
+
+    rows = rep["per_episode"]
+    context = rep["varied_context"]
+    design = list(rows[0]["design"])
+
+    def heading(key: str) -> str:
+        unit = in_maker_units(1.0, real_field(key, key).metadata["unit"])[1]
+        return key.split(".")[-1] + (f" [{unit}]" if unit else "")
+
+    def cell(key: str, value: float) -> str:
+        return f"{in_maker_units(value, real_field(key, key).metadata['unit'])[0]:.4g}"
+
+    keys = context + design
+    lines = ["designs chosen per context" + ("" if context else " (the scene draws no context: one design)") + ":",
+             "  ".join(f"{h:>12}" for h in ["seed", *map(heading, keys), "reward", "outcome"])]
+    for row in rows:
+        values = {**row["context"], **row["design"]}
+        lines.append("  ".join(f"{v:>12}" for v in [str(row["seed"]), *(cell(k, values[k]) for k in keys),
+                                                     f"{row['reward']:g}", row["outcome"]]))
+    return lines

@@ -309,29 +309,42 @@ def _jsonable(x):
     return json.loads(json.dumps(x, default=str))
 
 
-def load_run(run_dir: str | Path):
-    """The trained model and its scene from a training directory."""
-    sb3 = _sb3()
+def check_run_files(run_dir: str | Path) -> Path:
+    """``run_dir`` as a Path, or a one-line error if it is not a folder ``aero-env train`` wrote."""
     run_dir = Path(run_dir)
     for name in ("run.json", "model.zip", "config.yaml"):
         if not (run_dir / name).is_file():
             raise ConfigError(f"{run_dir}: no {name}; expected the directory `aero-env train --out DIR` wrote")
+    return run_dir
+
+
+def load_run(run_dir: str | Path):
+    """The trained model and its scene from a training directory."""
+    sb3 = _sb3()
+    run_dir = check_run_files(run_dir)
     run = json.loads((run_dir / "run.json").read_text())
     cls = {"ppo": sb3.PPO, "sac": sb3.SAC}[run["algo"]]
     return cls.load(run_dir / "model.zip", device="cpu"), load_config(run_dir / "config.yaml"), run
 
 
 def evaluate(run_dir: str | Path, episodes: int = 20, seed: int = 0, config: Config | None = None) -> dict:
-    """The deterministic policy's reward on ``episodes`` episode seeds ``seed, seed+1, ...``."""
+    """The deterministic policy's reward on ``episodes`` episode seeds ``seed, seed+1, ...``, and the design it
+    chose for each episode's context (``per_episode``).
+
+    ``config``: another scene to evaluate on (default: the one it was trained on). It must pose the same
+    design problem: the same context fields (the observation) and tunable fields (the action), in order.
+    Their ranges may differ; the action then maps onto the new scene's ranges (relative ranges follow it)."""
     check_ints(SimpleNamespace(episodes=episodes, seed=seed), (("episodes", 1, 10**6), ("seed", 0, 2**31 - 1)))
     from aero_env.envs import AerialAcrobatEnv
 
     model, trained_on, run = load_run(run_dir)
+    if config is not None:
+        _check_same_problem(trained_on, config)
     env = AerialAcrobatEnv(config or trained_on)
     if env.observation_space != model.observation_space or env.action_space != model.action_space:
         raise ConfigError(f"the scene's spaces ({env.observation_space}, {env.action_space}) are not the policy's "
                           f"({model.observation_space}, {model.action_space})")
-    rewards, traversals, outcomes = [], [], []
+    rewards, traversals, outcomes, episodes_out = [], [], [], []
     for s in range(seed, seed + episodes):
         obs, _ = env.reset(seed=s)
         action, _ = model.predict(obs, deterministic=True)
@@ -339,12 +352,26 @@ def evaluate(run_dir: str | Path, episodes: int = 20, seed: int = 0, config: Con
         rewards.append(float(r))
         traversals.append(int(info["traversals"]))
         outcomes.append(info["outcome"])
+        episodes_out.append(dict(seed=s, context=info["context"], design=info["design"], reward=float(r),
+                                 outcome=info["outcome"]))
     rw = np.array(rewards)
     return dict(algo=run["algo"], episodes=episodes, seeds=[seed, seed + episodes - 1], mean_reward=float(rw.mean()),
                 std_reward=float(rw.std()), min_reward=float(rw.min()), max_reward=float(rw.max()),
                 full_row=env.config.scene.frames - 1,
                 full_row_fraction=float(np.mean(np.array(traversals) >= env.config.scene.frames - 1)),
-                outcomes={o: outcomes.count(o) for o in sorted(set(outcomes))}, rewards=rewards)
+                outcomes={o: outcomes.count(o) for o in sorted(set(outcomes))}, rewards=rewards,
+                varied_context=[c.name for c in env.space.varied_context], per_episode=episodes_out)
+
+
+def _check_same_problem(trained_on: Config, scene: Config) -> None:
+    """A policy reads the context fields and writes the tunable fields it was trained with, in that order."""
+    for section in ("context", "tunable"):
+        theirs = [x.name for x in getattr(trained_on, section)]
+        ours = [x.name for x in getattr(scene, section)]
+        if theirs != ours:
+            raise ConfigError(f"--config: its {section} is {ours}, the policy's is {theirs}; a policy "
+                              f"{'observes' if section == 'context' else 'chooses'} the fields it was trained on, in "
+                              f"that order")
 
 
 def plot_learning_curve(run_dir: str | Path, path: str | Path) -> None:

@@ -73,6 +73,7 @@ def main(argv: list[str] | None = None) -> int:
     missing = [str(p) for p in todo if not p.is_file()]
     if missing:
         sys.exit(f"regenerate_docs: no such page: {', '.join(missing)}")
+    (ROOT / "out").mkdir(exist_ok=True)  # the docs' commands write there (git ignores it), as a reader's would
     if args.list:
         for page in todo:
             for m in MARKER.finditer(page.read_text()):

@@ -48,3 +48,14 @@ def test_table_trace_plot_and_gif(tmp_path):
     assert Image.open(plot).size[0] > 500
     anim = Image.open(gif)
     assert anim.n_frames > 50
+
+
+def test_a_closed_pipe_ends_quietly():
+    # `aero-env schema | head -1`: head leaves after one line; the rest of the table meets a closed pipe
+    import subprocess
+
+    shell = subprocess.run(["bash", "-c", f"'{sys.executable}' -m aero_env.cli schema | head -1; "
+                            "echo status ${PIPESTATUS[0]}"], capture_output=True, text=True, timeout=60)
+    assert shell.stderr == "", shell.stderr
+    # 141 (SIGPIPE's status) when the pipe closed before the table was written, 0 when it all fit in the pipe first
+    assert shell.stdout.startswith("Values are SI") and shell.stdout.split()[-2:] in (["status", "141"], ["status", "0"])

@@ -2,6 +2,7 @@
 
 import dataclasses
 
+import numpy as np
 import pytest
 
 from aero_env.cli import main
@@ -186,3 +187,47 @@ def test_with_values_checks_ranges_and_cross_checks(paper_cfg):
         paper_cfg.with_values({"design.m3": -0.1})
     with pytest.raises(ConfigError, match="design.mu_k = 0.409: must not exceed design.mu_s = 0.3"):
         paper_cfg.with_values({"design.mu_s": 0.3})
+
+
+def test_relative_ranges_follow_the_scene():
+    # A 6 cm frame (La = 29 mm) is searched around its own size: 0.75-1.35 x 29 mm, not the prototype's 36-65 mm
+    from aero_env.design_space import DesignSpace
+
+    small = DesignSpace(load_config(PAPER, {"design.La": 0.029, "design.m2": 0.009}))
+    proto = DesignSpace(load_config(PAPER))
+    edges = [small.values(np.full(5, a)) for a in (-1.0, 1.0)]
+    ends = {name: [d[name] for d in edges] for name in ("design.La", "design.h", "design.m3")}
+    assert ends["design.La"] == [0.75 * 0.029, 1.35 * 0.029]
+    assert ends["design.h"] == [-0.2 * 0.029, 0.4 * 0.029]  # the offset scales with the frame's arm
+    assert ends["design.m3"] == [0.5 * 0.009, 1.6 * 0.009]  # the counterbalance with the robot it balances
+    # the friction pair's range is the card's, whatever the toy's size
+    assert small.ranges[4] == proto.ranges[4] == (0.2, 1.5)
+    # La is a fixed fraction of its range on either scene: the action of the config's own La is the same
+    assert small.action_for()[2] == proto.action_for()[2]
+
+
+def test_relative_ranges_round_trip_and_their_errors(tmp_path):
+    cfg = load_config(PAPER)
+    assert load_config_text(tmp_path, cfg.to_yaml()).tunable == cfg.tunable
+    from aero_env.design_space import DesignSpace
+
+    bad = [({"tunable": [{"name": "design.h", "low": 0.5, "high": 2, "relative_to": "design.h"}],
+             "design.h": 0.0}, "tunable[0].relative_to = 'design.h': its value in this config is 0.0"),
+           ({"tunable": [{"name": "design.m3", "low": 0.5, "high": 20, "relative_to": "design.m2"}]},
+            "tunable[0].high (20 x design.m2 = 0.1542, a value of design.m3) = 0.1542: out of range, allowed (0.0, 0.1]"),
+           ({"tunable": [{"name": "design.La", "low": "30 mm", "high": 2, "relative_to": "design.La"}]},
+            "tunable[0].low = '30 mm': with relative_to design.La, low and high are plain numbers"),
+           ({"tunable": [{"name": "design.La", "low": 0.5, "high": 2, "relative_to": "design.Lz"}]},
+            "tunable[0].relative_to")]
+    for overrides, message in bad:
+        with pytest.raises(ConfigError) as err:
+            DesignSpace(load_config(PAPER, overrides))
+        assert message in str(err.value) and "\n" not in str(err.value), str(err.value)
+    # simulate ignores the tunables: a scene scaled past its relative ranges still loads
+    assert load_config(PAPER, {"design.m2": 0.09, "design.m3": 0.09}).design.m2 == 0.09
+
+
+def load_config_text(tmp_path, text):
+    p = tmp_path / "round.yaml"
+    p.write_text(text)
+    return load_config(p)

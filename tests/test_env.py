@@ -170,9 +170,12 @@ def test_action_for_refuses_fields_it_cannot_choose():
 def test_actions_map_onto_the_declared_ranges():
     env = make(**SHORT)
     low, high, mid = (env.unwrapped.design_for(np.full(5, a, np.float32)) for a in (-1.0, 1.0, 0.0))
-    for t in env.unwrapped.config.tunable:
-        assert (low[t.name], high[t.name]) == (t.low, t.high)  # the box's edges are the range's ends exactly
-        centre = math.sqrt(t.low * t.high) if t.scale == "log" else 0.5 * (t.low + t.high)
+    cfg = env.unwrapped.config
+    for t in cfg.tunable:
+        base = 1.0 if t.relative_to is None else cfg.value(t.relative_to)  # a relative range: multiples of it
+        lo, hi = t.low * base, t.high * base
+        assert (low[t.name], high[t.name]) == (lo, hi)  # the box's edges are the range's ends exactly
+        centre = math.sqrt(lo * hi) if t.scale == "log" else 0.5 * (lo + hi)
         assert mid[t.name] == pytest.approx(centre, rel=1e-12)
     for d in (low, mid, high):  # mu_k follows mu_s at the card pair's ratio
         assert d["design.mu_k"] / d["design.mu_s"] == pytest.approx(0.409 / 0.542, rel=1e-12)
@@ -237,6 +240,30 @@ def test_sync_and_async_vector_envs_agree_bit_for_bit():
     reversed_design = {k: v[::-1] for k, v in s[4]["design"].items()}
     assert not data_equivalence(s[4]["design"], reversed_design, exact=True)  # the check can fail
     assert all(s[3])  # every episode is one step
+
+
+def test_make_vec_scores_every_step_only_with_same_step_autoreset():
+    # A one-step env under Gymnasium's default NEXT_STEP autoreset: the step after each episode only resets
+    # (reward 0, the action ignored). With SAME_STEP every step is a scored design, as in docs/agents.md.
+    single = make(**VARIED, **SHORT)
+    actions = [np.full((2, 5), 0.1, np.float32), np.tile(single.unwrapped.action_for(), (2, 1))]
+    expected = []
+    for seed in (10, 11):
+        single.reset(seed=seed)
+        first = single.step(actions[0][0])[1]
+        single.reset()  # SAME_STEP resets a finished env at once, unseeded: its RNG goes on
+        expected.append((first, single.step(actions[1][0])[1]))
+    rewards = {}
+    for mode in (gym.vector.AutoresetMode.NEXT_STEP, gym.vector.AutoresetMode.SAME_STEP):
+        envs = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="sync", vector_kwargs={"autoreset_mode": mode},
+                            **VARIED, **SHORT)
+        envs.reset(seed=[10, 11])
+        rewards[mode] = [envs.step(a)[1].tolist() for a in actions]
+        envs.close()
+    same = rewards[gym.vector.AutoresetMode.SAME_STEP]
+    assert same == [[e[0] for e in expected], [e[1] for e in expected]]
+    assert any(e[1] > 0 for e in expected)  # the second designs score, so NEXT_STEP's zeros below are resets
+    assert rewards[gym.vector.AutoresetMode.NEXT_STEP] == [same[0], [0.0, 0.0]]
 
 
 def test_sb3_subproc_vec_env_matches_a_single_env():
@@ -345,3 +372,25 @@ def test_the_design_problem_never_blocks_a_plain_simulation(paper_cfg):
     assert simulate(cfg).outcome == "fell_short"
     with pytest.raises(ConfigError, match="tunable\\[4\\].linked: the links scale by design.mu_s"):
         make(config=cfg)
+
+
+def test_the_last_run_is_public_with_its_trace_when_asked():
+    plain, traced = make(**SHORT), make(**SHORT, **{"env.record_trace": True})
+    for env in (plain, traced):
+        env.reset(seed=0)
+        assert env.unwrapped.last_run is None
+        info = env.step(env.unwrapped.action_for())[4]
+        run = env.unwrapped.last_run
+        assert run.traversals == info["traversals"] and [s.t_detach for s in run.swings] == [
+            s["t_detach"] for s in info["swings"]]
+    assert plain.unwrapped.last_run.trace is None
+    trace = traced.unwrapped.last_run.trace
+    t = np.asarray(trace["t"])
+    # the time series covers the run, from its first recorded step to its end, in order
+    end = traced.unwrapped.last_run.sim_time
+    assert t[0] <= 0.01 and t[-1] == pytest.approx(end, abs=0.01) and np.all(np.diff(t) > 0)
+    assert {"theta1", "theta2"} <= set(trace) and len(trace["theta2"]) == len(t)
+    traced.reset(seed=1)
+    assert traced.unwrapped.last_run is None
+    with pytest.raises(ConfigError, match="env.record_trace = True: sim.fidelity = 'reduced'"):
+        make(**{"env.record_trace": True, "sim.fidelity": "reduced"})

@@ -15,7 +15,15 @@ sample as one vectorised batch, and its time per design is the batch's median ov
 
 ``check_reference=True`` adds ``reference/2``: the reference preset at half its step and twice
 its iterations, the test of the claim that refining further no longer changes the outcome or
-the first detach time.
+the first detach time. It also reports, per fidelity, ``outcome_agreement_converged``: the
+agreement over the designs whose traversal count ``reference`` and ``reference/2`` agree on
+(``converged_designs``). A design on an outcome boundary, where a change of step decides the
+count at any step size, has no right answer to agree with; it is left out of that figure.
+
+``near`` (``--near CONFIG --spread S``) draws the designs in a box of ±S of each action range
+around that config's design instead of over the whole box (:func:`.designs.draw_designs`): where
+tuners spend their time once a design works. Random designs over the whole box mostly fail at the
+first transfer, so agreement on them alone flatters every rung.
 """
 
 from __future__ import annotations
@@ -111,7 +119,8 @@ def _errors(a: list, b: list) -> dict:
                 compared=int(both.sum()))
 
 
-def summarise(runs: FidelityRuns, ref: FidelityRuns) -> dict:
+def summarise(runs: FidelityRuns, ref: FidelityRuns, converged: list[int] | None = None) -> dict:
+    """One fidelity's row; ``converged``: the designs whose count the refined reference confirms."""
     n = len(runs.traversals)
     wall, sim_time = float(np.sum(runs.wall)), float(np.sum(runs.sim_time))
     ref_wall = float(np.sum(ref.wall))
@@ -130,13 +139,16 @@ def summarise(runs: FidelityRuns, ref: FidelityRuns) -> dict:
         realtime_factor=sim_time / wall if wall > 0 else None,
         speedup_vs_reference=ref_wall / wall if wall > 0 else None,
         mean_traversals=float(np.mean(runs.traversals)),
-    )
+    ) | ({} if converged is None else dict(outcome_agreement_converged=(
+        sum(runs.traversals[i] == ref.traversals[i] for i in converged) / len(converged) if converged else None)))
 
 
 def accuracy(cfg: Config, designs: int = 50, seed: int = 0, repeats: int = 3, fidelities=None,
-             check_reference: bool = False, progress=None, on_design=None) -> dict:
-    """The accuracy/time table of ``fidelities`` (default: the whole ladder) on ``designs`` designs;
-    ``progress(name, runs)`` after each fidelity, ``on_design(name, done, total)`` after each design."""
+             check_reference: bool = False, progress=None, on_design=None, near: Config | None = None,
+             spread: float = 0.1, near_name: str | None = None) -> dict:
+    """The accuracy/time table of ``fidelities`` (default: the whole ladder) on ``designs`` designs (uniform,
+    or within ±``spread`` of ``near``'s design); ``progress(name, runs)`` after each fidelity,
+    ``on_design(name, done, total)`` after each design."""
     check_counts(designs=designs, repeats=repeats)
     names = list(fidelities or FIDELITY_PRESETS)
     for name in names:
@@ -145,26 +157,31 @@ def accuracy(cfg: Config, designs: int = 50, seed: int = 0, repeats: int = 3, fi
         names.append(REFERENCE)
     if check_reference and REFINED not in names:
         names.append(REFINED)
-    sample = draw_designs(cfg, designs, seed)
+    sample = draw_designs(cfg, designs, seed, near, spread)
     runs = {}
     for name in names:
         runs[name] = run_fidelity(sample, name, repeats, on_design)
         if progress:
             progress(name, runs[name])
     ref = runs[REFERENCE]
-    rows = [summarise(runs[n], ref) for n in names]
+    converged = None
+    if check_reference:
+        converged = [i for i, (a, b) in enumerate(zip(ref.traversals, runs[REFINED].traversals)) if a == b]
+    rows = [summarise(runs[n], ref, converged) for n in names]
     out = dict(default=DEFAULT_FIDELITY, designs=designs, seed=seed, repeats=repeats, frames=cfg.scene.frames,
+               sample=("uniform" if near is None else f"near {near_name or 'a design'} ±{spread:g}"),
                fidelities=rows,
                reference_outcomes={o: ref.outcomes.count(o) for o in sorted(set(ref.outcomes))})
     if check_reference:
         out["reference_converged"] = reference_convergence(runs[REFERENCE], runs[REFINED])
+        out["converged_designs"] = len(converged)
     return out
 
 
 # The reference counts as converged when refining it (half the step, twice the iterations) keeps
 # the traversal count of at least 99 % of the designs and moves the median first detach by at most
 # one default step. Not 100 %: about 1 % of random designs sit on an outcome boundary, where a
-# 31 µs change of step decides the count at any step size (README, "What accuracy costs in time").
+# 31 µs change of step decides the count at any step size (docs/fidelity.md, "The ladder, measured").
 CONVERGED_AGREEMENT = 0.99
 CONVERGED_DETACH_S = FIDELITY_PRESETS[DEFAULT_FIDELITY]["dt"]
 
@@ -178,10 +195,13 @@ def reference_convergence(ref: FidelityRuns, refined: FidelityRuns) -> dict:
 
 
 def table(report: dict) -> str:
+    conv_col = "converged_designs" in report
     head = (f"{'fidelity':>12} {'model':>7} {'dt ms':>7} {'iter':>4} {'s/design':>9} {'x real':>7} "
-            f"{'x ref':>7} {'agree':>6} {'t_det err ms (med/p95)':>23} {'th_det err deg':>15}")
-    lines = [f"{report['designs']} designs (seed {report['seed']}), {report['frames']} frames, median of "
-             f"{report['repeats']} runs each; default fidelity: {report['default']}", head]
+            f"{'x ref':>7} {'agree':>6}" + (f" {'conv.':>6}" if conv_col else "") +
+            f" {'t_det err ms (med/p95)':>23} {'th_det err deg':>15}")
+    lines = [f"{report['designs']} designs ({report.get('sample', 'uniform')}, seed {report['seed']}), "
+             f"{report['frames']} frames, median of {report['repeats']} runs each; default fidelity: "
+             f"{report['default']}", head]
     for r in report["fidelities"]:
         te, ae = r["detach_time_error"], r["detach_angle_error"]
         terr = "-" if te["median"] is None else f"{te['median'] * 1e3:.2f} / {te['p95'] * 1e3:.2f}"
@@ -189,7 +209,8 @@ def table(report: dict) -> str:
         mark = "*" if r["name"] == report["default"] else " "
         lines.append(f"{r['name'] + mark:>12} {r['model']:>7} {r['dt'] * 1e3:7.4f} {r['iterations']:>4} "
                      f"{r['wall_per_design']:9.4f} {r['realtime_factor']:7.1f} {r['speedup_vs_reference']:7.1f} "
-                     f"{100 * r['outcome_agreement']:5.1f}% {terr:>23} {aerr:>15}")
+                     f"{100 * r['outcome_agreement']:5.1f}%" + (f" {_percent(r['outcome_agreement_converged'])}"
+                                                                if conv_col else "") + f" {terr:>23} {aerr:>15}")
     conv = report.get("reference_converged")
     if conv:
         te = conv["detach_time_error"]
@@ -197,7 +218,13 @@ def table(report: dict) -> str:
                      f">= {100 * conv['tolerance_agreement']:.0f}%), first detach median {1e3 * (te['median'] or 0):.3f} "
                      f"ms apart (tolerance {1e3 * conv['tolerance_s']:.2f} ms): "
                      f"{'converged' if conv['converged'] else 'NOT converged'}")
+        lines.append(f"conv.: agreement over the {report['converged_designs']} of {report['designs']} designs whose "
+                     f"traversal count reference and reference/2 agree on")
     return "\n".join(lines)
+
+
+def _percent(x: float | None) -> str:
+    return f"{'-':>6}" if x is None else f"{100 * x:5.1f}%"
 
 
 def plot_pareto(report: dict, path: str) -> None:

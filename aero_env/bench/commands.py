@@ -5,7 +5,10 @@ from __future__ import annotations
 import json
 import sys
 
+from ..config import ConfigError, load_config
 from ..scene_args import PLOT_SUFFIXES, check_output, load_scene
+
+SPREAD = 0.1  # bench accuracy --near: the default half-width of the box, a fraction of each action range
 
 
 def register(sub, scene_command) -> None:
@@ -21,6 +24,11 @@ def register(sub, scene_command) -> None:
     ap.add_argument("--check-reference", action="store_true",
                     help="also run reference/2 (half the step, twice the iterations): is the reference converged?")
     ap.add_argument("--plot", metavar="FILE.png", help="the accuracy/time Pareto front")
+    ap.add_argument("--near", metavar="CONFIG",
+                    help="draw the designs near this config's design (its tunable values) instead of over the whole "
+                         "action box: where tuners spend their time")
+    ap.add_argument("--spread", type=float, default=SPREAD,
+                    help="with --near: the box's half-width, a fraction of each action range, in (0, 1]")
     ap.set_defaults(func=cmd_accuracy)
 
     ep = scene_command(bsub, "effects", "each effect's cost in time and whether it changes outcomes")
@@ -78,10 +86,16 @@ def cmd_accuracy(args) -> int:
     fids = [f.strip() for f in args.fidelities.split(",")] if args.fidelities else None
     for name in fids or ():
         fidelity_overrides(name)  # an unknown fidelity is refused before any design runs
+    if args.near is None and args.spread != SPREAD:
+        raise ConfigError(f"--spread {args.spread!r}: only with --near CONFIG (the design the box is around)")
+    if not 0.0 < args.spread <= 1.0:
+        raise ConfigError(f"--spread {args.spread!r}: a fraction of each action range, allowed (0, 1]")
     cfg = load_scene(args)
+    near = load_config(args.near) if args.near else None
     bar = DesignProgress()
     report = accuracy(cfg, designs=args.designs, seed=args.seed, repeats=args.repeats, fidelities=fids,
-                      check_reference=args.check_reference, progress=bar.fidelity, on_design=bar.design)
+                      check_reference=args.check_reference, progress=bar.fidelity, on_design=bar.design,
+                      near=near, spread=args.spread, near_name=args.near)
     if args.plot:
         plot_pareto(report, args.plot)
         report["plot"] = args.plot

@@ -22,13 +22,22 @@ class DesignSample:
     seed: int
 
 
-def draw_designs(cfg: Config, n: int, seed: int) -> DesignSample:
-    """``n`` uniformly random actions of ``cfg``'s design space, with their episode configs."""
+def draw_designs(cfg: Config, n: int, seed: int, near: Config | None = None, spread: float = 0.1) -> DesignSample:
+    """``n`` random actions of ``cfg``'s design space, with their episode configs: uniform over the whole
+    action box, or, with ``near``, uniform in a box of ±``spread`` (a fraction of each action range, which
+    is 2 wide) around the action of ``near``'s design (its tunable values), clipped to the box. That is
+    where a tuner spends its time once it has found a working design."""
     if n < 1:
         raise ConfigError(f"--designs {n}: must be at least 1")
     space = DesignSpace(cfg)
     rng = np.random.default_rng(seed)
-    actions = rng.uniform(-1.0, 1.0, (n, space.dim))
+    if near is None:
+        actions = rng.uniform(-1.0, 1.0, (n, space.dim))
+    else:
+        if not 0.0 < spread <= 1.0:
+            raise ConfigError(f"--spread {spread!r}: a fraction of each action range, allowed (0, 1]")
+        centre = space.action_for({t.name: near.value(t.name) for t in space.tunables}).astype(float)
+        actions = np.clip(centre + rng.uniform(-2.0 * spread, 2.0 * spread, (n, space.dim)), -1.0, 1.0)
     configs = tuple(space.episode_config(space.values(a), space.draw(rng))[0] for a in actions)
     return DesignSample(actions, configs, seed)
 

@@ -12,6 +12,7 @@ from gymnasium import spaces
 from ..config import Config, ConfigError, load_config
 from ..design_space import DesignSpace, Draw
 from ..physics import SimResult, World
+from ..reward import reward  # the one reward function: the tuner's screen scores with it too
 from ..simulation import simulate
 from ..render import ANIMATION_FPS, Canvas, draw_frames, draw_summary, iter_frames, pose_interval
 
@@ -35,16 +36,18 @@ class AerialAcrobatEnv(gym.Env):
     ## Action Space
 
     ``Box(-1, 1, (d,), float32)``, one dimension per entry of the config's ``tunable`` list,
-    mapped onto ``[low, high]`` linearly or geometrically (``scale: log``). The defaults
+    mapped onto ``[low, high]`` linearly or geometrically (``scale: log``). A range with
+    ``relative_to`` is that many times the named field's value in the config, so it follows
+    the scene (a toy with La = 29 mm is searched over 22-39 mm). The defaults
     (``aero_env.config.DEFAULT_TUNABLES``), with the prototype's value inside every range:
 
-    | Num | Field             | Low    | High   | Scale  | Prototype | Unit    |
-    |-----|-------------------|--------|--------|--------|-----------|---------|
-    | 0   | design.m3         | 0.004  | 0.012  | linear | 0.0072    | kg      |
-    | 1   | design.h          | -0.01  | 0.02   | linear | 0.005     | m       |
-    | 2   | design.La         | 0.035  | 0.065  | linear | 0.0483    | m       |
-    | 3   | design.spring_k   | 2e-4   | 4e-3   | log    | 8.77e-4   | N·m/rad |
-    | 4   | design.mu_s       | 0.2    | 1.5    | log    | 0.542     | -       |
+    | Num | Field            | Low   | High  | relative_to      | Scale  | On the prototype | Unit    |
+    |-----|------------------|-------|-------|------------------|--------|------------------|---------|
+    | 0   | design.m3        | 0.5   | 1.6   | design.m2        | linear | 3.9-12.3 g       | kg      |
+    | 1   | design.h         | -0.2  | 0.4   | design.La        | linear | -9.7-19.3 mm     | m       |
+    | 2   | design.La        | 0.75  | 1.35  | design.La        | linear | 36-65 mm         | m       |
+    | 3   | design.spring_k  | 0.22  | 4.5   | design.spring_k  | log    | 0.19-3.9 N·mm/rad | N·m/rad |
+    | 4   | design.mu_s      | 0.2   | 1.5   | (absolute)       | log    | 0.2-1.5          | -       |
 
     ``design.mu_s`` is linked to ``design.mu_k``: both scale by one factor, so the card pair
     keeps its kinetic/static ratio. ``env.action_for()`` gives the action of the config's own
@@ -61,14 +64,18 @@ class AerialAcrobatEnv(gym.Env):
 
     ## Rewards
 
-    | Outcome                              | Reward                                                   |
-    |--------------------------------------|----------------------------------------------------------|
-    | each consecutive traversal           | +1 (the full row of ``n`` frames gives ``n - 1``)        |
-    | the failed transfer (shaping on)     | ``+ env.reward_shaping · max(0, 1 - miss_distance / pitch)`` |
-    | ``unstable`` (the engine lost the state) | 0: its numbers are not physics                       |
+    | Outcome                                   | Reward                                                   |
+    |-------------------------------------------|----------------------------------------------------------|
+    | each consecutive traversal (seated catch) | +1 (the full row of ``n`` frames gives ``n - 1``)        |
+    | a failed transfer that flew (shaping on): ``fell_short``, ``missed_catch`` | ``+ env.reward_shaping · max(0, 1 - miss_distance / pitch)`` |
+    | a hook that never let go: ``stalled``, ``no_detach`` | +0, however near the next seat it hung       |
+    | ``unstable`` (the engine lost the state)  | 0 in all: its numbers are not physics                    |
 
     Shaping is off by default (``env.reward_shaping: 0``); its weight is below 1, so partial
-    credit never outweighs one more real traversal.
+    credit never outweighs one more real traversal. Credit is only for how close a real flight
+    came to the next seat: the run must have let go of the frame that last caught it
+    (``env.unwrapped.last_run.flew``). :func:`aero_env.reward.reward` is the function; the
+    tuner's screen (``tune --screen``) scores with it too.
 
     ## Starting State
 
@@ -86,6 +93,10 @@ class AerialAcrobatEnv(gym.Env):
     ``miss_distance``, ``health``) except ``wall_time``, which would break determinism, plus ``design``
     (the tunable and linked values chosen, SI), ``context`` (SI) and ``as_built`` (the fields the
     tolerances changed, as simulated, SI).
+
+    ``env.unwrapped.last_run`` is the last step's :class:`aero_env.results.SimResult` (None after
+    a reset): its ``swings`` (per-frame catch, detach and flight), and with
+    ``env.record_trace: true`` its ``trace``, the time series ``aero-env simulate --trace`` writes.
 
     ## Arguments
 
@@ -134,11 +145,15 @@ class AerialAcrobatEnv(gym.Env):
             raise ConfigError(f"render_mode = {render_mode!r}: sim.fidelity = {self.config.sim.fidelity!r} never builds "
                               f"the machine's bodies, so there is nothing to draw; render at a pymunk fidelity "
                               f"(mbd-fast, mbd, mbd-fine, reference)")
+        if self.config.env.record_trace and self.config.sim.model == "reduced":
+            raise ConfigError(f"env.record_trace = True: sim.fidelity = {self.config.sim.fidelity!r} has no time series "
+                              f"(the reduced model keeps none); record at a pymunk fidelity (mbd-fast, mbd, mbd-fine, "
+                              f"reference)")
         self.render_mode = render_mode
         self.action_space = spaces.Box(-1.0, 1.0, (self.space.dim,), np.float32)
         self.observation_space = spaces.Box(-1.0, 1.0, (self.space.obs_dim,), np.float32)
         self._draw: Draw = self.space.nominal_draw()
-        self._result: SimResult | None = None
+        self.last_run: SimResult | None = None  # the last step's run (public: see the class docstring)
         self._window = None
         self._clock = None
 
@@ -159,7 +174,7 @@ class AerialAcrobatEnv(gym.Env):
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
         self._draw = self.space.draw(self.np_random)
-        self._result = None
+        self.last_run = None
         if self.render_mode == "human":
             self._show([self._start_frame()])
         return self.space.observation(self._draw), {"context": dict(self._draw.context)}
@@ -168,23 +183,15 @@ class AerialAcrobatEnv(gym.Env):
         design = self.design_for(action)
         cfg, built = self.space.episode_config(design, self._draw)
         slowmo = cfg.env.render_slowmo
-        result = simulate(cfg, poses_every=pose_interval(slowmo) if self.render_mode else None)
-        self._result = result
+        result = simulate(cfg, trace=cfg.env.record_trace,
+                          poses_every=pose_interval(slowmo) if self.render_mode else None)
+        self.last_run = result
         info = result.to_json_dict()
         del info["wall_time"]  # the only field that is not a function of config and seed
         info.update(design=design, context=dict(self._draw.context), as_built=built)
         if self.render_mode == "human":
             self.render()
-        return self.space.observation(self._draw), self._reward(result, cfg), True, False, info
-
-    def _reward(self, result: SimResult, cfg: Config) -> float:
-        if result.outcome == "unstable":
-            return 0.0
-        reward = float(result.traversals)
-        w = cfg.env.reward_shaping
-        if w > 0 and result.outcome != "completed" and result.miss_distance is not None:
-            reward += w * max(0.0, 1.0 - result.miss_distance / cfg.scene.pitch)
-        return reward
+        return self.space.observation(self._draw), reward(result, cfg), True, False, info
 
     # ---- rendering ----
     def _size(self) -> tuple[int, int]:
@@ -199,7 +206,7 @@ class AerialAcrobatEnv(gym.Env):
         if self.render_mode is None:
             gym.logger.warn("render() called without a render_mode: gym.make(..., render_mode='rgb_array')")
             return None
-        r = self._result
+        r = self.last_run
         if self.render_mode == "rgb_array":
             return self._start_frame() if r is None else draw_summary(r, *self._size())
         if self.render_mode == "rgb_array_list":
