@@ -5,23 +5,9 @@ energy booked by ``World._energy_of`` and the spring part's ``energy_for``, join
 ``SwingFrame.health`` / ``Robot.measure``, penetration from ``SwingFrame.penetration`` (the hook's
 centre against the faces' centre lines, in the frame's own arithmetic). None of that is used here.
 Instead, an observer reads the pymunk bodies and shapes directly after every runner step (not only
-on the runner's 5 ms check cadence) and recomputes:
-
-1. **Energy** from each body's pymunk ``mass``, ``moment``, ``velocity``, ``angular_velocity`` and its
-   centre of gravity placed by pymunk's own ``local_to_world``, plus the leaf spring's 0.5·k·da² with
-   k taken from the *config* (not from the spring part or the pymunk constraint) and da from the two
-   bodies' angles. In SI, with g = 9.81 m/s². A conservative scene (no skewer, axle or drag losses)
-   must keep it constant; the dissipative prototype must never gain it.
-2. **Penetration** with pymunk's own ``Shape.point_query`` on the handrail shapes in the space (signed
-   distance from the hook's centre to each rounded card segment), against the hook circle's radius.
-3. **Joint drift** from body positions: each pivot's anchor mapped to the world on both of its bodies
-   with ``local_to_world``. The anchors are the model's facts (frame i turns about
-   (i·pitch, i·rise) at its body origin; torso and arm share their origin at the axle; the pinned hook
-   sits at the frame's (-Lb, 0) and the rigid robot's origin), so a joint missing from the space
-   still shows; every ``PivotJoint`` the space does hold is checked with its own anchors as well.
-
-The observer wraps :meth:`World.step` (a subclass patched into :mod:`aero_env.physics.run` for the
-length of one run), so the runner's events (catches moving the live window) happen as in any run.
+on the runner's 5 ms check cadence) and recomputes energy, penetration, joint drift, limit overshoot
+and speed, each as :mod:`tests.invariants` describes. A conservative scene (no skewer, axle or drag
+losses) must keep the energy constant; the dissipative prototype must never gain it.
 The measurements live in :mod:`tests.invariants` (shared with the hard cases and the property tests,
 which judge every run by them); this module checks them on scenes where the answer is known.
 """
