@@ -614,6 +614,9 @@ def _tunable(entry, where, name, f) -> Tunable:
     else:
         low, high = _bound(entry, "low", where, name, f), _bound(entry, "high", where, name, f)
     if not low < high:
+        if relative_to is not None:
+            raise ConfigError(f"{where}.high = {high!r}: must exceed {where}.low = {low!r} (both multiples of "
+                              f"{relative_to}'s value)")
         raise ConfigError(f"{where}.high = {high!r}: must exceed {where}.low = {low!r}, allowed ({low}, "
                           f"{f.metadata['hi']}]")
     scale = entry.get("scale", "linear")

@@ -78,7 +78,8 @@ def register(sub, scene_command) -> None:
                     help="evaluate on this scene instead of the one it was trained on (the same context and tunable "
                          "fields; their ranges may differ)")
     ep.add_argument("--set", action="append", metavar="KEY=VALUE",
-                    help="override a value of the scene evaluated on (repeatable), e.g. --set scene.rise=4mm")
+                    help="override a value of the scene evaluated on (repeatable), e.g. --set scene.frames=4 (not a context "
+                         "field the scene draws: that is drawn at every reset)")
     ep.add_argument("--json", action="store_true", help="print one JSON object instead of the summary")
     ep.set_defaults(func=cmd_evaluate)
 
@@ -103,6 +104,9 @@ def cmd_tune(args) -> int:
                             progress=not args.no_progress, screen=args.screen,
                             screen_designs=args.screen_designs, reconnect_s=args.reconnect).check()
     cfg = load_scene(args)
+    from aero_env.design_space import DesignSpace
+
+    DesignSpace(cfg)  # a design problem that cannot be posed is refused before a study is opened or made
     try:
         result = tune(cfg, settings, config_name=Path(args.config).stem)
     except TuneInterrupted as stop:
@@ -164,6 +168,8 @@ def cmd_train(args) -> int:
 
 
 def cmd_evaluate(args) -> int:
+    from aero_env.config import ConfigError
+
     from .rl import check_run_files, evaluate
 
     run_dir = check_run_files(args.run_dir)
@@ -174,6 +180,11 @@ def cmd_evaluate(args) -> int:
         overrides = dict(parse_override(s) for s in args.set or [])
         # without --config, --set changes the scene the policy was trained on (its config.yaml in DIR)
         scene = load_config(args.config or run_dir / "config.yaml", overrides)
+        drawn = {c.name for c in scene.context if c.low is not None}
+        for key in overrides:
+            if key in drawn:
+                raise ConfigError(f"--set {key}: the scene draws {key} at every reset (its context range), so a value "
+                                  f"set here is never used; change the range with --set 'context=[...]' or a --config")
     rep = evaluate(args.run_dir, episodes=args.episodes, seed=args.seed, config=scene)
     if args.json:
         print(json.dumps(rep, indent=2))

@@ -364,14 +364,20 @@ def evaluate(run_dir: str | Path, episodes: int = 20, seed: int = 0, config: Con
 
 
 def _check_same_problem(trained_on: Config, scene: Config) -> None:
-    """A policy reads the context fields and writes the tunable fields it was trained with, in that order."""
+    """A policy reads the context it was trained with (the fields, and their ranges, over which each observation
+    is normalised) and writes the tunable fields it was trained with, in that order; their ranges may differ."""
     for section in ("context", "tunable"):
         theirs = [x.name for x in getattr(trained_on, section)]
         ours = [x.name for x in getattr(scene, section)]
         if theirs != ours:
-            raise ConfigError(f"--config: its {section} is {ours}, the policy's is {theirs}; a policy "
+            raise ConfigError(f"the scene evaluated on: its {section} is {ours}, the policy's is {theirs}; a policy "
                               f"{'observes' if section == 'context' else 'chooses'} the fields it was trained on, in "
                               f"that order")
+    for ours, theirs in zip(scene.context, trained_on.context):
+        if (ours.low, ours.high) != (theirs.low, theirs.high):
+            raise ConfigError(f"the scene evaluated on: context {ours.name} ranges over [{ours.low}, {ours.high}], the "
+                              f"policy's over [{theirs.low}, {theirs.high}]; an observation is the value's place in the "
+                              f"range it was trained on, so the ranges must be the same")
 
 
 def plot_learning_curve(run_dir: str | Path, path: str | Path) -> None:

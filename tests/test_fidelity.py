@@ -225,7 +225,7 @@ def test_bench_accuracy_near_a_design_and_on_converged_designs(capsys):
         np.mean([fast[i] == ref[i] for i in converged]))
     assert rows["reference"]["outcome_agreement_converged"] == 1.0
     # --spread alone, or outside (0, 1], is refused before any design runs
-    for argv, needle in ((["--spread", "0.2"], "only with --near"), (["--near", str(PAPER), "--spread", "0"],
+    for argv, needle in ((["--spread", "0.1"], "only with --near"), (["--near", str(PAPER), "--spread", "0"],
                                                                      "allowed (0, 1]")):
         assert cli_main(["bench", "accuracy", str(PAPER), "--designs", "1", *argv]) == 2
         assert needle in capsys.readouterr().err

@@ -125,7 +125,8 @@ def test_evaluate_refuses_a_directory_that_is_not_a_run(tmp_path):
 
 def test_cli_train_two_vector_envs_then_evaluate(tmp_path):
     args = [sys.executable, "-m", "aero_env.cli"]
-    done = subprocess.run([*args, "train", str(PAPER), "--set", "scene.frames=3", "--timesteps", "32", "--n-envs",
+    varied = str(PAPER.parent / "varied.yaml")  # trained on the varied scene: the observation means something
+    done = subprocess.run([*args, "train", varied, "--set", "scene.frames=3", "--timesteps", "32", "--n-envs",
                            "2", "--eval-every", "16", "--hp", "n_steps=16", "--hp", "batch_size=16",
                            "--out", "run", "--no-progress", "--json"], capture_output=True, text=True, cwd=tmp_path,
                           timeout=600)
@@ -138,9 +139,9 @@ def test_cli_train_two_vector_envs_then_evaluate(tmp_path):
                           cwd=tmp_path, timeout=600)
     assert done.returncode == 0, done.stderr
     assert json.loads(done.stdout)["episodes"] == 3
-    # on another scene: the varied one, whose rise and robot mass are drawn; the designs are listed per context
-    varied = str(PAPER.parent / "varied.yaml")
-    done = subprocess.run([*args, "evaluate", "run", "--episodes", "4", "--config", varied, "--set", "scene.frames=3",
+    # on another scene (8 frames instead of 3, its rise and robot mass drawn as in training), the designs
+    # listed per context
+    done = subprocess.run([*args, "evaluate", "run", "--episodes", "4", "--config", varied, "--set", "scene.frames=4",
                            "--json"], capture_output=True, text=True, cwd=tmp_path, timeout=600)
     assert done.returncode == 0, done.stderr
     rep = json.loads(done.stdout)
@@ -148,7 +149,7 @@ def test_cli_train_two_vector_envs_then_evaluate(tmp_path):
     assert rep["varied_context"] == ["scene.rise", "design.m2"] and len(set(rises)) == 4
     assert all(0.0 <= r <= 0.004 for r in rises) and all(set(e["design"]) == {
         "design.m3", "design.h", "design.La", "design.spring_k", "design.mu_s", "design.mu_k"} for e in rep["per_episode"])
-    table = subprocess.run([*args, "evaluate", "run", "--episodes", "4", "--config", varied, "--set", "scene.frames=3"],
+    table = subprocess.run([*args, "evaluate", "run", "--episodes", "4", "--config", varied, "--set", "scene.frames=4"],
                            capture_output=True, text=True, cwd=tmp_path, timeout=600).stdout.splitlines()
     head = table.index(next(line for line in table if line.startswith("designs chosen per context")))
     assert table[head + 1].split()[:4] == ["seed", "rise", "[mm]", "m2"] and len(table) == head + 2 + 4
@@ -157,6 +158,16 @@ def test_cli_train_two_vector_envs_then_evaluate(tmp_path):
     done = subprocess.run([*args, "evaluate", "run", "--config", str(PAPER.parent / "steep.yaml")],
                           capture_output=True, text=True, cwd=tmp_path, timeout=600)
     assert done.returncode == 2 and done.stderr.count("\n") == 1 and "its tunable is" in done.stderr, done.stderr
+    # the observation is each context value's place in the range trained on: another range is refused, and so is
+    # a --set of a field the scene draws at every reset (it would never be used)
+    for extra, needle in ((["--config", str(PAPER)], "context scene.rise ranges over [None, None]"),
+                          (["--config", varied, "--set", "context=[{name: scene.rise, low: 0, high: 0.008}, "
+                                                         "{name: scene.pitch}, {name: design.m2, low: 0.0065, "
+                                                         "high: 0.009}]"], "context scene.rise ranges over [0.0, 0.008]"),
+                          (["--config", varied, "--set", "scene.rise=4mm"], "--set scene.rise: the scene draws")):
+        done = subprocess.run([*args, "evaluate", "run", *extra], capture_output=True, text=True, cwd=tmp_path,
+                              timeout=600)
+        assert done.returncode == 2 and done.stderr.count("\n") == 1 and needle in done.stderr, done.stderr
 
 
 def test_the_varied_config_is_the_registered_varied_scene():

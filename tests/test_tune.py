@@ -216,3 +216,17 @@ def test_screen_option_is_checked():
         TuneSettings(screen="exact").check()
     with pytest.raises(ConfigError, match="--screen-designs 0"):
         TuneSettings(screen="reduced", screen_designs=0).check()
+
+
+def test_a_design_problem_that_cannot_be_posed_is_refused_before_a_study_is_made(tmp_path, capsys):
+    # La's range relative to h, with h = 0: refused in one line, and no study is left to block the fixed rerun
+    from aero_env.cli import main
+
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("tunable:\n  - {name: design.La, low: 0.5, high: 2, relative_to: design.h}\n")
+    db = tmp_path / "s.db"
+    argv = ["tune", str(bad), "--set", "design.h=0", "--trials", "2", "--storage", f"sqlite:///{db}", "--study", "s",
+            "--out", str(tmp_path / "b.yaml"), "--no-progress"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "tunable[0].relative_to = 'design.h'" in err and not db.exists()

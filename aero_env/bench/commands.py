@@ -27,8 +27,9 @@ def register(sub, scene_command) -> None:
     ap.add_argument("--near", metavar="CONFIG",
                     help="draw the designs near this config's design (its tunable values) instead of over the whole "
                          "action box: where tuners spend their time")
-    ap.add_argument("--spread", type=float, default=SPREAD,
-                    help="with --near: the box's half-width, a fraction of each action range, in (0, 1]")
+    ap.add_argument("--spread", type=float, default=None,
+                    help=f"with --near: the box's half-width, a fraction of each action range, in (0, 1] (default "
+                         f"{SPREAD})")
     ap.set_defaults(func=cmd_accuracy)
 
     ep = scene_command(bsub, "effects", "each effect's cost in time and whether it changes outcomes")
@@ -86,16 +87,17 @@ def cmd_accuracy(args) -> int:
     fids = [f.strip() for f in args.fidelities.split(",")] if args.fidelities else None
     for name in fids or ():
         fidelity_overrides(name)  # an unknown fidelity is refused before any design runs
-    if args.near is None and args.spread != SPREAD:
+    if args.near is None and args.spread is not None:
         raise ConfigError(f"--spread {args.spread!r}: only with --near CONFIG (the design the box is around)")
-    if not 0.0 < args.spread <= 1.0:
-        raise ConfigError(f"--spread {args.spread!r}: a fraction of each action range, allowed (0, 1]")
+    spread = SPREAD if args.spread is None else args.spread
+    if not 0.0 < spread <= 1.0:
+        raise ConfigError(f"--spread {spread!r}: a fraction of each action range, allowed (0, 1]")
     cfg = load_scene(args)
     near = load_config(args.near) if args.near else None
     bar = DesignProgress()
     report = accuracy(cfg, designs=args.designs, seed=args.seed, repeats=args.repeats, fidelities=fids,
                       check_reference=args.check_reference, progress=bar.fidelity, on_design=bar.design,
-                      near=near, spread=args.spread, near_name=args.near)
+                      near=near, spread=spread, near_name=args.near)
     if args.plot:
         plot_pareto(report, args.plot)
         report["plot"] = args.plot

@@ -36,7 +36,10 @@ def draw_designs(cfg: Config, n: int, seed: int, near: Config | None = None, spr
     else:
         if not 0.0 < spread <= 1.0:
             raise ConfigError(f"--spread {spread!r}: a fraction of each action range, allowed (0, 1]")
-        centre = space.action_for({t.name: near.value(t.name) for t in space.tunables}).astype(float)
+        try:
+            centre = space.action_for({t.name: near.value(t.name) for t in space.tunables}).astype(float)
+        except ConfigError as exc:
+            raise ConfigError(f"--near: that config's design is not in this scene's design space: {exc}") from None
         actions = np.clip(centre + rng.uniform(-2.0 * spread, 2.0 * spread, (n, space.dim)), -1.0, 1.0)
     configs = tuple(space.episode_config(space.values(a), space.draw(rng))[0] for a in actions)
     return DesignSample(actions, configs, seed)
