@@ -17,6 +17,7 @@ from aero_env.config import FIDELITY_PRESETS
 from aero_env.scene_args import PLOT_SUFFIXES, YAML_SUFFIXES, check_output, load_scene
 
 from .options import ALGOS, SAMPLERS
+from .study_faults import RECONNECT_S
 
 INTERRUPTED = 130  # the shell's status for a process ended by SIGINT
 
@@ -45,7 +46,7 @@ def register(sub, scene_command) -> None:
                          "(reduced: one vectorised batch), then confirm the best --trials of them at the config's own "
                          f"fidelity; one of {', '.join(FIDELITY_PRESETS)} (absent: no screen)")
     tp.add_argument("--screen-designs", type=int, default=20000, metavar="M", help="designs the screen scores")
-    tp.add_argument("--reconnect", type=float, default=120.0, metavar="SECONDS",
+    tp.add_argument("--reconnect", type=float, default=RECONNECT_S, metavar="SECONDS",
                     help="how long each process retries a lost database (bounded backoff) before the run stops; "
                          "rerunning the same command then resumes the study")
     tp.set_defaults(func=cmd_tune)
@@ -75,8 +76,8 @@ def register(sub, scene_command) -> None:
     ep.add_argument("--episodes", type=int, default=20, help="episodes, one per seed")
     ep.add_argument("--seed", type=int, default=0, help="first episode seed")
     ep.add_argument("--config", metavar="FILE.yaml",
-                    help="evaluate on this scene instead of the one it was trained on (the same context and tunable "
-                         "fields; their ranges may differ)")
+                    help="evaluate on this scene instead of the one it was trained on (the same context, ranges "
+                         "included, and the same tunable fields, whose ranges may differ)")
     ep.add_argument("--set", action="append", metavar="KEY=VALUE",
                     help="override a value of the scene evaluated on (repeatable), e.g. --set scene.frames=4 (not a context "
                          "field the scene draws: that is drawn at every reset)")
@@ -104,9 +105,6 @@ def cmd_tune(args) -> int:
                             progress=not args.no_progress, screen=args.screen,
                             screen_designs=args.screen_designs, reconnect_s=args.reconnect).check()
     cfg = load_scene(args)
-    from aero_env.design_space import DesignSpace
-
-    DesignSpace(cfg)  # a design problem that cannot be posed is refused before a study is opened or made
     try:
         result = tune(cfg, settings, config_name=Path(args.config).stem)
     except TuneInterrupted as stop:
@@ -204,16 +202,16 @@ def design_table(rep: dict) -> list[str]:
 
     rows = rep["per_episode"]
     context = rep["varied_context"]
-    design = list(rows[0]["design"])
+    keys = context + list(rows[0]["design"])
+    units = {key: real_field(key, key).metadata["unit"] for key in keys}  # SI, as the values are
 
     def heading(key: str) -> str:
-        unit = in_maker_units(1.0, real_field(key, key).metadata["unit"])[1]
+        unit = in_maker_units(1.0, units[key])[1]
         return key.split(".")[-1] + (f" [{unit}]" if unit else "")
 
     def cell(key: str, value: float) -> str:
-        return f"{in_maker_units(value, real_field(key, key).metadata['unit'])[0]:.4g}"
+        return f"{in_maker_units(value, units[key])[0]:.4g}"
 
-    keys = context + design
     lines = ["designs chosen per context" + ("" if context else " (the scene draws no context: one design)") + ":",
              "  ".join(f"{h:>12}" for h in ["seed", *map(heading, keys), "reward", "outcome"])]
     for row in rows:

@@ -332,8 +332,9 @@ def evaluate(run_dir: str | Path, episodes: int = 20, seed: int = 0, config: Con
     chose for each episode's context (``per_episode``).
 
     ``config``: another scene to evaluate on (default: the one it was trained on). It must pose the same
-    design problem: the same context fields (the observation) and tunable fields (the action), in order.
-    Their ranges may differ; the action then maps onto the new scene's ranges (relative ranges follow it)."""
+    design problem (:func:`_check_same_problem`): the same context, ranges included (the observation), and
+    the same tunable fields (the action), in order. The tunables' ranges may differ; the action then maps
+    onto the new scene's ranges (relative ranges follow it)."""
     check_ints(SimpleNamespace(episodes=episodes, seed=seed), (("episodes", 1, 10**6), ("seed", 0, 2**31 - 1)))
     from aero_env.envs import AerialAcrobatEnv
 
@@ -344,23 +345,23 @@ def evaluate(run_dir: str | Path, episodes: int = 20, seed: int = 0, config: Con
     if env.observation_space != model.observation_space or env.action_space != model.action_space:
         raise ConfigError(f"the scene's spaces ({env.observation_space}, {env.action_space}) are not the policy's "
                           f"({model.observation_space}, {model.action_space})")
-    rewards, traversals, outcomes, episodes_out = [], [], [], []
+    per_episode = []
     for s in range(seed, seed + episodes):
         obs, _ = env.reset(seed=s)
         action, _ = model.predict(obs, deterministic=True)
         _, r, _, _, info = env.step(np.clip(action, -1.0, 1.0))
-        rewards.append(float(r))
-        traversals.append(int(info["traversals"]))
-        outcomes.append(info["outcome"])
-        episodes_out.append(dict(seed=s, context=info["context"], design=info["design"], reward=float(r),
-                                 outcome=info["outcome"]))
+        per_episode.append(dict(seed=s, context=info["context"], design=info["design"], reward=float(r),
+                                traversals=int(info["traversals"]), outcome=info["outcome"]))
+    rewards = [e["reward"] for e in per_episode]
+    traversals = [e["traversals"] for e in per_episode]
+    outcomes = [e["outcome"] for e in per_episode]
     rw = np.array(rewards)
     return dict(algo=run["algo"], episodes=episodes, seeds=[seed, seed + episodes - 1], mean_reward=float(rw.mean()),
                 std_reward=float(rw.std()), min_reward=float(rw.min()), max_reward=float(rw.max()),
                 full_row=env.config.scene.frames - 1,
                 full_row_fraction=float(np.mean(np.array(traversals) >= env.config.scene.frames - 1)),
                 outcomes={o: outcomes.count(o) for o in sorted(set(outcomes))}, rewards=rewards,
-                varied_context=[c.name for c in env.space.varied_context], per_episode=episodes_out)
+                varied_context=[c.name for c in env.space.varied_context], per_episode=per_episode)
 
 
 def _check_same_problem(trained_on: Config, scene: Config) -> None:

@@ -152,6 +152,7 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
     lost for longer than ``settings.reconnect_s`` raises :class:`StorageUnavailable`. Either way the
     study resumes by calling this again."""
     settings.check()
+    DesignSpace(cfg)  # a design problem that cannot be posed is refused before a study is opened or made
     url = settings.resolved_storage()
     name = settings.study_name(config_name)
     storage = open_storage(url)
