@@ -6,7 +6,7 @@
 ``mbd``    the pymunk world (:func:`aero_env.physics.simulate`): frames, robot, spring,
            frictional hook contact; traces and animations
 ``reduced`` the two-link swing, ballistic flight and a geometric catch test
-           (:mod:`aero_env.models.reduced`): no pymunk, vectorised over many designs
+           (:mod:`aero_env.models.reduced`): no pymunk, compiled, many designs at once
 =========  ==========================================================================
 
 Both return a :class:`~aero_env.results.SimResult`. This module sits above the physics

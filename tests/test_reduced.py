@@ -9,6 +9,8 @@ import pytest
 from aero_env.config import ConfigError, load_config
 from aero_env.inertia import RobotParts
 from aero_env.models import reduced, two_link
+from aero_env.models.reduced.layout import P
+from aero_env.models.reduced.params import param_table, raw_from_configs
 from aero_env.models.reduced import (
     simulate_batch,
     simulate_reduced,
@@ -170,7 +172,7 @@ def test_the_start_energy_is_the_configs_in_the_model_and_in_the_world(overrides
     e = _start_energy_by_hand(cfg)
     # the pymunk world, recounted from its bodies before its first step (tests/invariants.py)
     assert Observer(World(cfg)).rows[0]["energy"] == pytest.approx(e, rel=1e-12)
-    # the model's sin/cos are float32 (TRIG_DTYPE): measured 5.5e-8 apart
+    # the model records its energy after its first step (4 ms): measured 4e-8 apart
     assert simulate_reduced(cfg).energy["initial"] == pytest.approx(e, rel=1e-6)
 
 
@@ -234,8 +236,10 @@ def test_the_robot_is_built_from_the_worlds_parts():
     """One definition: the reduced model's robot is aero_env.inertia.RobotParts (mass without the handrail's card,
     the torso's centre with the coins), as the pymunk robot is."""
     cfg = load_config(PAPER)
-    P = reduced._params(reduced._raw_from_configs([cfg]))
+    row = param_table(raw_from_configs([cfg]), reduced.STEP)[0]
     parts = RobotParts(cfg.design)
-    assert P.m[0] == parts.mass == pytest.approx(cfg.design.m2 - cfg.design.handrail_mass)
-    assert P.dc[0] == parts.torso_com and P.ma[0] == parts.m_arm and P.mt[0] == parts.m_torso
-    assert P.Jt[0] == pytest.approx(parts.I_torso + parts.m_torso * parts.torso_com**2, rel=1e-12)
+    assert row[P.m] == parts.mass == pytest.approx(cfg.design.m2 - cfg.design.handrail_mass)
+    L, dc = parts.arm_length, parts.torso_com
+    assert row[P.Pt] == parts.m_torso * dc  # the torso's first moment about the axle: its centre with the coins
+    assert row[P.Pa] == parts.m_arm * L / 2.0 + parts.m_torso * L
+    assert row[P.Jt] == pytest.approx(parts.I_torso + parts.m_torso * dc**2, rel=1e-12)

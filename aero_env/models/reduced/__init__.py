@@ -1,0 +1,219 @@
+"""The ``reduced`` fidelity: a whole run along the row without pymunk, compiled, many designs at once.
+
+The cheapest rung of the fidelity ladder. Each design is one row of constants (:mod:`.params`) and
+its run is scalar code (:mod:`.run`: a fixed-step loop whose phases are branches) compiled by numba
+and spread over the cores, one design per task. ``simulate_batch`` / ``simulate_values`` run a batch
+(``BatchResult``), ``simulate_reduced`` one config as the pymunk runner's ``SimResult``,
+``swing_trace`` samples a first swing. The compiled code is cached on disk (``kernel_cache_dir()``);
+a new source or numba version compiles once, ``compile_kernels()`` does it on purpose and says how
+long it took. With ``NUMBA_DISABLE_JIT=1`` the same code runs as plain Python (slow: for checks).
+
+The files are the phases: :mod:`.hooked_dynamics` (the hooked swing's equations), :mod:`.hooked_phase`
+(a hooked step and its events), :mod:`.impacts` (the stops), :mod:`.transitions` (release, slide,
+swing start, end), :mod:`.flight` (flight and the catch test), :mod:`.catch` (the catch impulse),
+:mod:`.run` (the loop and the kernels), :mod:`.outputs` (results and sentences).
+
+**The swing (hooked).** Coordinates: the frame angle theta1, the arm's direction phi_a (hook ->
+axle) and the torso's phi_t (axle -> torso centre), the hook in the handrail's notch. This is the
+paper's two-link model (frame + robot jointed at the handrail, A25/A30) with the robot link taken
+*from its parts*, as the pymunk robot is built (``arm_length``, ``arm_mass`` a uniform rod,
+``torso_com``, and the torso inertia :mod:`aero_env.physics.engine_params` derives so the robot,
+fully bent, has the paper's I2 about its centre). While the arm sits on its stop (alpha_max: the
+robot's weight holds the leaf spring there on a working design, the prototype all swing long) the
+chain *is* the two-link model with Lc = the hook-to-centre distance of the parts at alpha_max
+(44.4 mm for the prototype, not the design's 30 mm) and I2 = m2/3·(Ld²+Ld·Lc+Lc²) (the design's
+Lc, Ld): the stop is a constraint, and ``swing_trace`` reproduces ``two_link.simulate`` with that
+Lc. When the spring lifts the arm off its stop, alpha (interior angle at the axle; spring torque
+k·(alpha - alpha_min), or k/2·da² for ``spring_law: stiffening``) is a third coordinate; the arm's
+stops are inelastic.
+
+Why the parts and not the design's Lc: the pymunk robot is the parts, only the parts give the arm
+its own motion, and that motion is a failure a quarter of random designs meet: a stiff spring snaps
+the arm off its stop at the catch and the hook pops out. Either rigid link alone misses the
+prototype's first swing by ~2 deg RMS: what both lack is the friction of the hook's round tip
+(``hook_radius``) turning in the notch, mu·r·(sum of the faces' normal forces), which slows pymunk's
+swing by ~2 deg at 0.3 s. The torque saturates at high friction because the wedge then carries the
+load by friction: the normal forces come from F = sum_i N_i·(n_i + mu·sig·perp(n_i)).
+
+**Slip and detach.** The joint force F (handrail on robot) follows from the accelerations every
+step. The notch is two card faces (``design.notch_*``, as :mod:`aero_env.physics.swing_frame` builds
+them, turning with the frame); with the hook in the corner it holds while F lies in the union of the
+faces' static friction cones (atan(mu_s) about each inward normal). F leaving it on one face's side,
+pressing on that face, starts a slide along the face with kinetic friction (a fourth coordinate s;
+-mu_k·N·sign(s') with N solved together with the accelerations); the hook lets go when its centre
+passes the face's end (length minus the hook/card clearance) or when N turns tensile; a slide that
+stops sticks again. F pulling on both faces lets go at once. Impacts (:mod:`.impacts`) are inelastic.
+
+**Flight and catch** (:mod:`.flight`, :mod:`.catch`): a ballistic centre of mass, the arm snapping
+about it, a geometric catch at the next notch's mouth and an inelastic catch impulse.
+
+**Outcomes and times** follow :mod:`aero_env.physics.run` (its thresholds are restated in the
+phases): ``t_detach`` is when the hook leaves the handrail, ``t_catch`` when it enters the next
+mouth, ``sim_time`` when the runner would stop (a decided miss: the centre of mass reaching the
+floor, in closed form, or the flight timeout; the last catch + ``contact_hold``). Stalls the runner
+only ends by its timeouts are ended early (``STALL_WINDOW``) and reported at the runner's time.
+
+**Numerics.** RK4 with a fixed step (``STEP``; ``sim.dt`` when the config's ``sim.model`` is
+``reduced``), events at step ends, release and catch times interpolated, float64 throughout.
+Deterministic: a design gives bit-identical results alone or in any batch, on any number of threads.
+
+Not modelled: air drag (<0.1% in the paper and in the pymunk world), contact bounces and the hook
+riding a face's outside, the hook rolling in the corner, the ``hook: pin`` scene (that is
+``aero_env.models.two_link``). Agreement with the pymunk world and speed: ``aero-env bench accuracy``,
+``aero-env bench throughput``, docs/fidelity.md.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import sys
+import time
+from pathlib import Path
+from typing import Mapping, Sequence
+
+import numba
+import numpy as np
+
+from ...config import Config, ConfigError, real_field
+
+_KERNEL_FILES = ("layout.py", "constants.py", "hooked_dynamics.py", "transitions.py", "impacts.py",
+                 "hooked_phase.py", "catch.py", "flight.py", "run.py")
+
+
+def kernel_cache_dir() -> Path:
+    """Where the compiled kernels are cached: one folder per version of their source, numba and Python.
+
+    numba's own cache checks only the file that holds a function, not the files its callees live in; a folder
+    keyed on every kernel file's text means an edited phase can never run with a stale caller."""
+    here = Path(__file__).parent
+    digest = hashlib.sha256()
+    for name in _KERNEL_FILES:
+        digest.update((here / name).read_bytes())
+    digest.update(f"{numba.__version__} {sys.version}".encode())
+    root = os.environ.get("AERO_ENV_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "aero-env")
+    return Path(root) / "numba" / digest.hexdigest()[:16]
+
+
+def _import_kernels():
+    # numba reads its cache folder when a function is decorated: point it at ours for our modules only
+    previous = numba.config.CACHE_DIR
+    numba.config.CACHE_DIR = str(kernel_cache_dir())
+    try:
+        from . import run
+    finally:
+        numba.config.CACHE_DIR = previous
+    return run
+
+
+_run = _import_kernels()
+
+from .constants import STEP  # noqa: E402
+from .layout import O, OUTCOMES, W  # noqa: E402
+from .outputs import BatchResult, batch_result, sim_result  # noqa: E402
+from .params import (check_raw, check_scene, param_table, raw_from_configs, set_friction_law,  # noqa: E402
+                     step_for)
+
+__all__ = ["BatchResult", "OUTCOMES", "STEP", "compile_kernels", "kernel_cache_dir", "simulate_batch",
+           "simulate_reduced", "simulate_values", "swing_trace"]
+
+
+def compile_kernels() -> float:
+    """Compile (or load from the disk cache) the kernels; returns the seconds it took. A later call costs ~0."""
+    t0 = time.perf_counter()
+    cfg = Config()
+    simulate_batch([cfg, cfg])
+    simulate_reduced(cfg)
+    swing_trace(cfg, 0.01)
+    return time.perf_counter() - t0
+
+
+def _run_table(table: np.ndarray, frames: int, dt: float, detail: bool) -> BatchResult:
+    wall0 = time.perf_counter()
+    n = table.shape[0]
+    out = np.empty((n, len(O)))
+    sw = np.empty((n, len(W), frames))
+    kernel = _run.run_one if n == 1 else _run.run_batch
+    kernel(table, frames, float(dt), detail, out, sw)
+    return batch_result(table, out, sw, frames, time.perf_counter() - wall0, detail)
+
+
+def simulate_batch(cfgs: Sequence[Config], dt: float | None = None) -> BatchResult:
+    """Run every config of ``cfgs`` (all with the same ``scene.frames``) through the reduced model at once.
+
+    ``dt``: the integration step; default: ``sim.dt`` of the configs when their ``sim.model`` is ``reduced``,
+    else :data:`STEP`."""
+    frames = check_scene(cfgs)
+    if dt is None:
+        steps = {step_for(c) for c in cfgs}
+        if len(steps) != 1:
+            raise ConfigError(f"simulate_batch: the configs ask for different steps {sorted(steps)}: one batch "
+                              f"runs one step (pass dt=)")
+        dt = steps.pop()
+    return _run_table(param_table(raw_from_configs(cfgs), dt), frames, dt, detail=False)
+
+
+def simulate_values(base: Config, values: Mapping[str, np.ndarray], dt: float | None = None) -> BatchResult:
+    """The fast path: the designs ``base`` with ``values`` (dotted ``design.*``/``scene.*`` keys -> arrays of
+    one length, or scalars) set, without building a Config per design. Each value is checked against its
+    field's range and the design's cross-checks, as ``Config.with_values`` does, vectorised."""
+    check_scene([base])
+    raw = raw_from_configs([base])
+    n = None
+    for key, v in values.items():
+        a = np.atleast_1d(np.asarray(v, dtype=float))
+        if a.ndim != 1 or (n is not None and len(a) not in (1, n)):
+            raise ConfigError(f"simulate_values: {key} has shape {np.shape(v)}: every value must be a scalar or a "
+                              f"1-D array of one common length")
+        if len(a) > 1:
+            n = len(a) if n is None else n
+    n = n or 1
+    raw = {k: np.broadcast_to(v, (n,)).copy() for k, v in raw.items()}
+    for key, v in values.items():
+        f = real_field(key, "key")
+        if key not in raw:
+            raise ConfigError(f"simulate_values: {key} is not read by the reduced model (it reads "
+                              f"{', '.join(sorted(k for k in raw if '.' in k))})")
+        a = np.broadcast_to(np.asarray(v, dtype=float), (n,)).copy()
+        meta = f.metadata
+        lo, hi = meta["lo"], meta["hi"]
+        bad = ~np.isfinite(a)
+        if lo is not None:
+            bad |= (a < lo) | ((a == lo) if meta["lo_open"] else False)
+        if hi is not None:
+            bad |= a > hi
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise ConfigError(f"{key}[{i}] = {a[i]!r}: out of range, allowed "
+                              f"{'(' if meta['lo_open'] else '['}{lo}, {hi}]")
+        raw[key] = a
+    set_friction_law(raw, base.scene.effects.friction)
+    check_raw(raw)
+    dt = step_for(base) if dt is None else dt
+    return _run_table(param_table(raw, dt), base.scene.frames, dt, detail=False)
+
+
+def simulate_reduced(cfg: Config, dt: float | None = None):
+    """One config through the reduced model, as a :class:`~aero_env.results.SimResult` (the pymunk
+    runner's fields; the energy is the model's: frames, robot parts and spring; health is all zeros)."""
+    wall0 = time.perf_counter()
+    frames = check_scene([cfg])
+    dt = step_for(cfg) if dt is None else dt
+    res = _run_table(param_table(raw_from_configs([cfg]), dt), frames, dt, detail=True)
+    res.wall_time = time.perf_counter() - wall0
+    return sim_result(res, 0, cfg.sim.fidelity)
+
+
+def swing_trace(cfg: Config, t_end: float, dt: float | None = None, detach: bool = False) -> dict:
+    """The first swing of ``cfg`` sampled every step, for comparisons: t, theta1, theta2, alpha (rad), omega1
+    (rad/s), energy (J, the hooked frame and robot). With ``detach=False`` the hook holds whatever the force
+    (it never slips or lets go), so the swing runs on to ``t_end`` against the stops."""
+    frames = check_scene([cfg])
+    dt = step_for(cfg) if dt is None else dt
+    table = param_table(raw_from_configs([cfg]), dt)
+    n_steps = int(np.ceil(t_end / dt - 1e-9))
+    samples = np.empty((n_steps + 1, 6))
+    filled = _run.trace_first_swing(table[0], frames, float(dt), not detach, n_steps, samples)
+    names = ("t", "theta1", "theta2", "alpha", "omega1", "energy")
+    return {k: samples[:filled, i].copy() for i, k in enumerate(names)}

@@ -1,0 +1,194 @@
+"""The flight between frames: a ballistic centre of mass, the arm snapping about it, and the catch test.
+
+The centre of mass is ballistic (closed form); arm and torso turn about it with the robot's angular
+momentum conserved and the leaf spring snapping the arm toward alpha_min (kinetic energy
+Ka·wa²/2 + Kt·wt²/2 + Kat·cos(phi_a - phi_t)·wa·wt; inelastic arm stops). The catch is geometric:
+the hook's centre crosses the mouth of the next notch downward with the arm snapped forward, then
+reaches the seat's depth within ``sim.catch_seat`` of the seat (farther: a graze). A transfer that is
+not caught ends as the runner ends it (the centre of mass at the floor, the flight timeout, or
+decided: the hook fallen below the next mouth) and is named as the runner's ``_classify_miss``
+names it.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ... import units
+from .catch import catch
+from .constants import NOTCH_EXIT_MARGIN
+from .hooked_dynamics import axle_friction, hook_from_com, spring_energy, spring_torque
+from .layout import (R_AHEAD, R_BEHIND, R_GRAZE, R_LOW, R_NEVER_DOWN, R_STIFF, R_WEAK, P, X)
+from .transitions import finish, parked_energy, track_energy
+
+G = units.GRAVITY
+
+
+@njit(cache=True, error_model="numpy")
+def flight_accel(p, arm_held, pa, pt, wa, wt):
+    """Accelerations of (phi_a, phi_t) in flight, and the arm stop's load (generalised force on alpha)."""
+    c, s = math.cos(pa - pt), math.sin(pa - pt)
+    tau = spring_torque(p, pa - pt - p[P.alim])
+    Ka, Kt = p[P.Ka], p[P.Kt]
+    kc, ks = p[P.Kat] * c, p[P.Kat] * s
+    ta = axle_friction(p, wa - wt)
+    b0 = -ks * wt * wt - tau + ta
+    b1 = ks * wa * wa + tau - ta
+    if arm_held:  # the arm against a stop: the robot turns rigidly
+        x0 = x1 = (b0 + b1) / (Ka + 2.0 * kc + Kt)
+    else:
+        inv = 1.0 / (Ka * Kt - kc * kc)
+        x0, x1 = (Kt * b0 - kc * b1) * inv, (Ka * b1 - kc * b0) * inv
+    return x0, x1, b1 - kc * x0 - Kt * x1
+
+
+@njit(cache=True, error_model="numpy")
+def flight_rk4(p, arm_held, pa, pt, wa, wt, dt):
+    """One RK4 step of the arm and torso about the centre of mass; the stop's load at the step's start."""
+    h = 0.5 * dt
+    a0, a1, lam = flight_accel(p, arm_held, pa, pt, wa, wt)
+    u0, u1 = wa + h * a0, wt + h * a1
+    b0, b1, _ = flight_accel(p, arm_held, pa + h * wa, pt + h * wt, u0, u1)
+    z0, z1 = wa + h * b0, wt + h * b1
+    c0, c1, _ = flight_accel(p, arm_held, pa + h * u0, pt + h * u1, z0, z1)
+    e0, e1 = wa + dt * c0, wt + dt * c1
+    d0, d1, _ = flight_accel(p, arm_held, pa + dt * z0, pt + dt * z1, e0, e1)
+    k6 = dt / 6.0
+    return (pa + k6 * (wa + 2.0 * u0 + 2.0 * z0 + e0), pt + k6 * (wt + 2.0 * u1 + 2.0 * z1 + e1),
+            wa + k6 * (a0 + 2.0 * b0 + 2.0 * c0 + d0), wt + k6 * (a1 + 2.0 * b1 + 2.0 * c1 + d1), lam)
+
+
+@njit(cache=True, error_model="numpy")
+def fall_end(p, x):
+    """When the runner would end a decided transfer: the centre of mass below the floor, or the flight timeout."""
+    r = p[P.rise] / p[P.pitch]
+    # cy0 + vy0·tau - g·tau²/2 = (cx0 + vx0·tau)·r - floor_drop
+    a, b = -0.5 * G, x[X.vy0] - x[X.vx0] * r
+    c = x[X.cy0] - x[X.cx0] * r + p[P.floor_drop]
+    tau = (-b - math.sqrt(max(b * b - 4.0 * a * c, 0.0))) / (2.0 * a)
+    return min(x[X.t0f] + tau, x[X.t_rel] + p[P.flight_timeout])
+
+
+@njit(cache=True, error_model="numpy")
+def classify_miss(p, x, out, t_end):
+    """The runner's _classify_miss, in its order."""
+    a_rel, nan = x[X.a_rel], math.nan
+    if a_rel - p[P.amin] < 0.5 * (p[P.amax] - p[P.amin]):
+        finish(x, out, R_STIFF, t_end, math.degrees(a_rel), nan)
+    elif x[X.h_rel] < p[P.min_release_height]:
+        finish(x, out, R_LOW, t_end, x[X.h_rel], nan)
+    elif math.isfinite(x[X.graze]):
+        finish(x, out, R_GRAZE, t_end, x[X.graze], nan)
+    elif math.isnan(x[X.t_cross]):
+        finish(x, out, R_NEVER_DOWN, t_end, nan, nan)
+    elif math.isnan(x[X.t_snap]) or x[X.t_snap] > x[X.t_cross]:
+        finish(x, out, R_WEAK, t_end, math.degrees(a_rel - x[X.a_cross]), nan)
+    elif x[X.dx_cross] < 0.0:
+        finish(x, out, R_BEHIND, t_end, -x[X.dx_cross], nan)
+    else:
+        finish(x, out, R_AHEAD, t_end, x[X.dx_cross], nan)
+
+
+@njit(cache=True, error_model="numpy")
+def arm_stop_in_flight(p, x, pa, pt, wa, wt):
+    """The arm past a stop in flight: an inelastic impact about the centre of mass. Returns the new state."""
+    alpha = pa - pt - math.pi
+    if x[X.lockA] != 0.0 or (p[P.amin] <= alpha <= p[P.amax]):
+        return pa, pt, wa, wt
+    a, b, cc = p[P.Ka], p[P.Kat] * math.cos(pa - pt), p[P.Kt]
+    lim = p[P.amax] if alpha > p[P.amax] else p[P.amin]
+    err, da = alpha - lim, wa - wt
+    w = 1.0 / (a + 2.0 * b + cc)
+    xa, xt = (cc + b) * w, -(a + b) * w  # K^-1 J^T / (J K^-1 J^T), J = (1, -1)
+    pa, pt = pa - xa * err, pt - xt * err
+    if err * da > 0.0:  # moving further past it
+        wa, wt = wa - xa * da, wt - xt * da
+        x[X.lockA], x[X.lockAk] = 1.0, 2.0 if lim == p[P.amax] else 1.0
+    return pa, pt, wa, wt
+
+
+@njit(cache=True, error_model="numpy")
+def flight_stage(p, x, out, sw, t, dt, frames, detail, parked):
+    """Advance a flying design from t to t + dt: the arm's motion, the hook's path, the catch or the miss."""
+    if x[X.t0f] > t:  # released at the end of this step's hooked part: it flies from the next step
+        return
+    pa0, pt0, wa0, wt0 = x[X.pa], x[X.pt], x[X.wa], x[X.wt]
+    k_arm = x[X.lockAk]
+    pa, pt, wa, wt, lamA = flight_rk4(p, x[X.lockA] > 0.0, pa0, pt0, wa0, wt0, dt)
+    unlock = (k_arm == 1.0 and lamA < 0.0) or (k_arm == 2.0 and lamA > 0.0)
+    pa, pt, wa, wt = arm_stop_in_flight(p, x, pa, pt, wa, wt)
+    if unlock:
+        x[X.lockA], x[X.lockAk] = 0.0, 0.0
+    x[X.pa], x[X.pt], x[X.wa], x[X.wt] = pa, pt, wa, wt
+    alpha = pa - pt - math.pi
+    t1 = t + dt
+    tau = t1 - x[X.t0f]
+    cx = x[X.cx0] + x[X.vx0] * tau
+    cy = x[X.cy0] + x[X.vy0] * tau - 0.5 * G * tau * tau
+    rx, ry = hook_from_com(p, pa, pt)
+    hx, hy = cx + rx, cy + ry
+    hx0, hy0 = x[X.hx], x[X.hy]
+    x[X.hx], x[X.hy] = hx, hy
+    fi = int(x[X.fi])
+    ox, oy = (fi + 1) * p[P.pitch], (fi + 1) * p[P.rise]
+    seat_x, seat_y = ox + p[P.seatx], oy + p[P.seaty]
+    since = t1 - x[X.t_rel]
+    x[X.closest] = min(x[X.closest], math.hypot(hx - seat_x, hy - seat_y))
+    if detail:
+        vy = x[X.vy0] - G * tau
+        kin = (0.5 * p[P.m] * (x[X.vx0] ** 2 + vy * vy) + 0.5 * (p[P.Ka] * wa * wa + p[P.Kt] * wt * wt)
+               + p[P.Kat] * math.cos(pa - pt) * wa * wt)
+        e = kin + p[P.m] * G * cy + spring_energy(p, alpha - p[P.amin]) + parked_energy(parked, fi, True)
+        track_energy(out, e)
+    # the runner's watch: the arm's snap, the hook sinking past the next seat
+    snapped = alpha < p[P.snap]
+    if snapped and math.isnan(x[X.t_snap]):
+        x[X.t_snap] = since
+    if hy < seat_y and math.isnan(x[X.t_cross]):
+        x[X.t_cross], x[X.dx_cross], x[X.a_cross] = since, hx - seat_x, alpha
+    # the notch's mouth: entering it downward with the arm snapped, then reaching the seat's depth
+    ax, ay = ox + p[P.mbx], oy + p[P.mby]
+    bx, by = ox + p[P.mfx] - ax, oy + p[P.mfy] - ay
+    side0 = bx * (hy0 - ay) - by * (hx0 - ax)
+    side1 = bx * (hy - ay) - by * (hx - ax)
+    side_in = bx * (seat_y - ay) - by * (seat_x - ax)
+    lam = side0 / (side0 - side1 if side0 != side1 else 1.0)
+    mx, my = hx0 + lam * (hx - hx0) - ax, hy0 + lam * (hy - hy0) - ay
+    mu = (mx * bx + my * by) / (bx * bx + by * by)
+    on_mouth = 0.0 <= mu <= 1.0
+    enter = on_mouth and side0 * side_in < 0.0 and side1 * side_in >= 0.0
+    leave = on_mouth and side0 * side_in >= 0.0 and side1 * side_in < 0.0
+    was_in = x[X.in_notch] > 0.0
+    entered = enter and not was_in and snapped
+    if entered:
+        x[X.t_mouth] = t + lam * dt
+    in_notch = (was_in or entered) and not (leave and was_in)
+    depth = (hx - seat_x) * p[P.bisx] + (hy - seat_y) * p[P.bisy]
+    if in_notch and depth <= 0.0:
+        # the world's catch needs the hook's centre within sim.catch_seat of the seat: here, where the free hook
+        # reaches the seat's depth (the model then sets it on the seat); farther is a graze
+        d0 = (hx0 - seat_x) * p[P.bisx] + (hy0 - seat_y) * p[P.bisy]
+        lam_d = min(max(d0 / (d0 - depth if d0 != depth else 1.0), 0.0), 1.0)
+        gap = math.hypot(hx0 + lam_d * (hx - hx0) - seat_x, hy0 + lam_d * (hy - hy0) - seat_y)
+        if gap > p[P.catch_seat]:
+            x[X.graze] = min(x[X.graze], gap)
+            in_notch = False
+        else:  # the state where the hook reached the seat's depth: arm and torso interpolated inside the step
+            x[X.in_notch] = 1.0
+            x[X.pa], x[X.pt] = pa0 + lam_d * (pa - pa0), pt0 + lam_d * (pt - pt0)
+            x[X.wa], x[X.wt] = wa0 + lam_d * (wa - wa0), wt0 + lam_d * (wt - wt0)
+            catch(p, x, out, sw, t + lam_d * dt, t1, gap, frames)
+            return
+    x[X.in_notch] = 1.0 if in_notch else 0.0
+    # the end of a transfer that was not caught
+    low_mouth = min(min(ay, oy + p[P.mfy]), seat_y) - NOTCH_EXIT_MARGIN
+    vy = x[X.vy0] - G * tau
+    floor = cy < cx * p[P.rise] / p[P.pitch] - p[P.floor_drop]
+    timeout = since > p[P.flight_timeout]
+    decided = not math.isnan(x[X.t_cross]) and not in_notch and hy < low_mouth and vy < 0.0
+    if floor or timeout:
+        classify_miss(p, x, out, t1)
+    elif decided:
+        classify_miss(p, x, out, fall_end(p, x))

@@ -1,0 +1,183 @@
+"""One step of a hooked design: the constraints at t, RK4 under them to t + dt, the events at t + dt.
+
+The handrail's force and the stops' loads at the step's start decide the constraints: the hook holds
+while the force lies in the notch's static friction cone, slides along a face when it leaves the cone
+pressing on that face (kinetic friction), lets go when no face can push; a held stop lets go when its
+load turns to a pull. After the step: impacts at the stops, the slide's end (past the face's end: the
+hook lets go), and the runner's swing checks (held at the stop, turned back, timeouts, the model's own
+stall test).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ...results import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG
+from .constants import STALL_WINDOW
+from .hooked_dynamics import (friction_cone, hook_on_frame, hooked_energy, normal_sum, slide_eval, slide_step,
+                              stick_eval, stick_step, theta2)
+from .impacts import impact
+from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_STOP_HOLD, R_TIMEOUT, R_TURN_BACK,
+                     R_TURN_NEAR_STOP, P, W, X)
+from .transitions import finish, parked_energy, release_hook, start_slide, track_energy
+
+
+@njit(cache=True, error_model="numpy")
+def stops_let_go(x, lam1, lamA):
+    """Free a held stop whose load turned to a pull; True if either did."""
+    changed = False
+    k1, kA = x[X.lock1k], x[X.lockAk]
+    if (k1 == 1.0 and lam1 < 0.0) or (k1 == 2.0 and lam1 > 0.0):
+        x[X.lock1], x[X.lock1k] = 0.0, 0.0
+        changed = True
+    if (kA == 1.0 and lamA < 0.0) or (kA == 2.0 and lamA > 0.0):
+        x[X.lockA], x[X.lockAk] = 0.0, 0.0
+        changed = True
+    return changed
+
+
+@njit(cache=True, error_model="numpy")
+def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
+    """A sticking hook's step. Returns False where it did not step (it let go, or started a slide)."""
+    px, py, A = hook_on_frame(p, x)
+    th1, pa, pt, w1, wa, wt = x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt]
+    a0, a1, a2, Fx, Fy, lam1, lamA, c1, s1 = stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt)
+    release, slide, face, sig = friction_cone(p, x[X.s], x[X.face], Fx, Fy, c1, s1)
+    if hold:
+        release, slide = False, False
+    # the tip turning in the notch: its surface slides over the faces at r·|w_arm - w_frame| (the pymunk switch
+    # reads the slip at the contact point): kinetic friction above sim.slip_speed, static below. The step uses the
+    # torque the last step found; this one is the next step's.
+    mu = p[P.mu_k] if p[P.r_hook] * abs(wa - w1) > p[P.slip_speed] else p[P.mu_s]
+    piv = mu * p[P.r_hook] * normal_sum(p, x, Fx, Fy, c1, s1, mu)
+    if release:
+        x[X.piv] = piv
+        release_hook(p, x, sw, t, t)
+        return False
+    if slide:
+        x[X.piv] = piv
+        start_slide(p, x, face, sig)
+        return False
+    if stops_let_go(x, lam1, lamA):  # the first stage again under the new constraints
+        a0, a1, a2 = stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt)[:3]
+    s_before = x[X.s]
+    x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, px, py, A, dt, a0, a1, a2)
+    x[X.piv] = piv
+    hooked_events(p, x, out, sw, t, dt, s_before, False, detail, parked)
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def slide_stage(p, x, out, sw, t, dt, detail, parked):
+    """A sliding hook's step: kinetic friction along the face; a tensile face lets go."""
+    y = (x[X.th1], x[X.s], x[X.pa], x[X.pt], x[X.w1], x[X.ws], x[X.wa], x[X.wt])
+    a0, a1, a2, a3, N, lam1, lamA = slide_eval(p, x, *y)
+    # the moment of the sliding friction about the tip's centre, r·mu_k·N·sig·cross(n, u), on the arm (the next
+    # step's, as the turning torque)
+    x[X.piv] = 0.0
+    tq0 = p[P.r_hook] * x[X.mu_sig] * max(N, 0.0) * (1.0 - 2.0 * x[X.face])
+    if N < 0.0:
+        x[X.tq0] = tq0
+        release_hook(p, x, sw, t, t)
+        return
+    if stops_let_go(x, lam1, lamA):
+        a0, a1, a2, a3 = slide_eval(p, x, *y)[:4]
+    s_before = x[X.s]
+    (x[X.th1], x[X.s], x[X.pa], x[X.pt],
+     x[X.w1], x[X.ws], x[X.wa], x[X.wt]) = slide_step(p, x, dt, a0, a1, a2, a3)
+    x[X.tq0] = tq0
+    hooked_events(p, x, out, sw, t, dt, s_before, True, detail, parked)
+
+
+@njit(cache=True, error_model="numpy")
+def hooked_events(p, x, out, sw, t, dt, s_before, was_sliding, detail, parked):
+    """After a hooked step to t + dt: impacts at the stops, the slide's end, the runner's swing checks."""
+    t1 = t + dt
+    th1, w1, k1 = x[X.th1], x[X.w1], x[X.lock1k]
+    if (th1 >= p[P.stop] and w1 > 0.0 and k1 != 2.0) or (th1 <= p[P.rest] and w1 < 0.0 and k1 != 1.0):
+        impact(p, x, sw, t1, True)
+    if x[X.phase] == HOOKED and x[X.lockA] == 0.0:
+        alpha = x[X.pa] - x[X.pt] - math.pi
+        if alpha > p[P.amax] or alpha < p[P.amin]:
+            impact(p, x, sw, t1, False)
+    if x[X.phase] != HOOKED:
+        return
+    if was_sliding and x[X.slide] > 0.0:  # the slide's end (a slide an impact has just started waits a step)
+        s, sig = x[X.s], x[X.sig]
+        s_end = p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
+        if sig > 0.0 and s >= s_end:  # past the face's end: the hook lets go, at the interpolated time
+            frac = min(max((s_end - s_before) / ((s - s_before) if s != s_before else 1.0), 0.0), 1.0)
+            release_hook(p, x, sw, t1, t + frac * dt)
+            return
+        back = s <= 0.0  # back in the corner, where the other face stops it
+        if back or x[X.ws] * sig <= 0.0:  # ... or the slide came to rest: it sticks
+            x[X.slide], x[X.mu_sig], x[X.ws] = 0.0, 0.0, 0.0
+        if back:
+            x[X.s] = 0.0
+    swing_checks(p, x, out, sw, t1, detail, parked)
+
+
+@njit(cache=True, error_model="numpy")
+def swing_checks(p, x, out, sw, t1, detail, parked):
+    """The runner's checks on a hooked swing at t1 (aero_env.physics.run's rules), and the records."""
+    fi = int(x[X.fi])
+    th1 = x[X.th1]
+    # the catch state as the runner records it (contact_hold after the first touch)
+    if x[X.rec] == 0.0 and t1 - x[X.t_catch] >= p[P.contact_hold]:
+        sw[W.theta1_catch, fi] = math.degrees(th1)
+        sw[W.theta2_catch, fi] = math.degrees(theta2(p, x[X.pa], x[X.pt]))
+        x[X.rec] = 1.0
+    if detail:
+        th2 = math.degrees(theta2(p, x[X.pa], x[X.pt]))
+        if not th2 >= sw[W.theta2_min, fi]:  # NaN (not yet recorded) compares False
+            sw[W.theta2_min, fi] = th2
+        if not th2 <= sw[W.theta2_max, fi]:
+            sw[W.theta2_max, fi] = th2
+        track_energy(out, hooked_energy(p, x, fi * p[P.rise]) + parked_energy(parked, fi, False))
+    # the distance from the hook to the next frame's seat
+    c1, s1 = math.cos(th1), math.sin(th1)
+    px, py = p[P.p0x] + x[X.s] * x[X.ux], p[P.p0y] + x[X.s] * x[X.uy]
+    hx = fi * p[P.pitch] + c1 * px - s1 * py
+    hy = fi * p[P.rise] + s1 * px + c1 * py
+    nx = (fi + 1) * p[P.pitch] + p[P.seatx]
+    ny = (fi + 1) * p[P.rise] + p[P.seaty]
+    x[X.closest] = min(x[X.closest], math.hypot(hx - nx, hy - ny))
+    # the runner's checks
+    peak = x[X.peak] = max(x[X.peak], th1)
+    at_stop = th1 >= p[P.stop] - STOP_TOLERANCE
+    if not at_stop:
+        x[X.t_stop] = math.nan
+    elif math.isnan(x[X.t_stop]):
+        x[X.t_stop] = t1
+    turn_back = math.radians(TURN_BACK_DEG)
+    since = t1 - x[X.t_catch]
+    rest = p[P.rest]
+    unmoved = peak < rest + REST_MOVE
+    nan = math.nan
+    if at_stop and t1 - x[X.t_stop] >= p[P.stop_hold]:
+        finish(x, out, R_STOP_HOLD, t1, nan, nan)
+    elif not at_stop and th1 < peak - turn_back:
+        near = peak >= p[P.held_past]
+        finish(x, out, R_TURN_NEAR_STOP if near else R_TURN_BACK, t1, math.degrees(peak), nan)
+    elif since > p[P.swing_timeout]:
+        finish(x, out, R_TIMEOUT, t1, nan, nan)
+    elif unmoved and since > p[P.rest_timeout]:
+        finish(x, out, R_AT_REST, t1, nan, nan)
+    elif since >= STALL_WINDOW and (x[X.barrier] > 0.0 or (x[X.lock1k] == 1.0 and peak < rest + turn_back)):
+        # the model's own early end (STALL_WINDOW): the runner would run these to its timeouts
+        if unmoved:
+            finish(x, out, R_BARRIER_REST, x[X.t_catch] + min(p[P.rest_timeout], p[P.swing_timeout]), nan, nan)
+        else:
+            finish(x, out, R_BARRIER, x[X.t_catch] + p[P.swing_timeout], nan, nan)
+
+
+@njit(cache=True, error_model="numpy")
+def hooked_step(p, x, out, sw, t, dt, hold, detail, parked):
+    """Advance a hooked design from t to t + dt (a sticking hook that starts to slide slides from t)."""
+    stepped = False
+    if x[X.slide] == 0.0:
+        stepped = stick_stage(p, x, out, sw, t, dt, hold, detail, parked)
+    if not stepped and x[X.phase] == HOOKED and x[X.slide] > 0.0:
+        slide_stage(p, x, out, sw, t, dt, detail, parked)

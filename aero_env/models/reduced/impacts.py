@@ -1,0 +1,124 @@
+"""Inelastic impacts of a hooked design at the frame's stops and the arm's stops.
+
+The velocity along the stopped coordinate goes to zero with the hook holding (s held: the face takes
+the impulse), if the handrail can take the impulse. At the end stop a pull that no face can hold
+throws the robot off: the frame stays stopped and the robot flies on with the velocities it had (the
+jolt release pymunk shows at 180 deg). The rest stop never throws the hook (the robot hangs below
+it). At the arm's stops a pull lifts the hook off the handrail; it is a detach only if the hook stays
+off for the runner's contact_hold (else the load sets it back in the notch: a bounce).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ... import units
+from .constants import S_CORNER
+from .hooked_dynamics import friction_cone
+from .layout import P, X
+from .transitions import release_hook, start_slide
+
+G = units.GRAVITY
+
+
+@njit(cache=True, error_model="numpy")
+def arm_impact_lifts(p, x, tensile, jv, err, c1, s1, Hx, Hy):
+    """For an arm impact whose held impulse would pull on the handrail: does the hook, free, leave the handrail
+    for the runner's contact_hold? It leaves with the velocity the free robot's arm impact gives it (about the
+    robot's centre of mass) and falls back under gravity and the handrail's centripetal motion.
+    Returns (lifts, phi_a, phi_t, w_a, w_t): the free robot's state after the impact."""
+    pa, pt = x[X.pa], x[X.pt]
+    a, b, cc = p[P.Ka], p[P.Kat] * math.cos(pa - pt), p[P.Kt]
+    w = 1.0 / (a + 2.0 * b + cc)
+    xa, xt = (cc + b) * w, -(a + b) * w
+    dwa, dwt = -xa * jv, -xt * jv
+    dvx = (p[P.Pa] * math.sin(pa) * dwa + p[P.Pt] * math.sin(pt) * dwt) / p[P.m]
+    dvy = -(p[P.Pa] * math.cos(pa) * dwa + p[P.Pt] * math.cos(pt) * dwt) / p[P.m]
+    # the way out of the notch: its bisector (in the corner), the face's normal (on a face)
+    if x[X.s] <= S_CORNER:
+        nlx, nly = math.cos(p[P.beta]), math.sin(p[P.beta])
+    else:
+        nlx, nly = x[X.nx], x[X.ny]
+    nx, ny = c1 * nlx - s1 * nly, s1 * nlx + c1 * nly
+    v_sep = dvx * nx + dvy * ny
+    a_rel = -G * ny + (Hx * nx + Hy * ny) * x[X.w1] * x[X.w1]
+    T = p[P.contact_hold]
+    lifts = tensile and v_sep * T + 0.5 * a_rel * T * T > 0.0
+    return lifts, pa - xa * err, pt - xt * err, x[X.wa] + dwa, x[X.wt] + dwt
+
+
+@njit(cache=True, error_model="numpy")
+def impact(p, x, sw, t1, frame):
+    """An inelastic impact at the frame's stops (frame=True) or the arm's, at t1."""
+    th1, pa, pt, s = x[X.th1], x[X.pa], x[X.pt], x[X.s]
+    w1, wa, wt = x[X.w1], x[X.wa], x[X.wt]
+    c1, s1 = math.cos(th1), math.sin(th1)
+    ca, sa = math.cos(pa), math.sin(pa)
+    ct, st = math.cos(pt), math.sin(pt)
+    m, Pa, Pt = p[P.m], p[P.Pa], p[P.Pt]
+    px, py = p[P.p0x] + s * x[X.ux], p[P.p0y] + s * x[X.uy]
+    A = p[P.If] + m * (px * px + py * py)
+    Hx, Hy = c1 * px - s1 * py, s1 * px + c1 * py
+    D, E = Pa * (Hx * ca + Hy * sa), Pt * (Hx * ct + Hy * st)
+    F = p[P.Pat] * (ca * ct + sa * st)
+    B, C = p[P.Ja], p[P.Jt]
+    c00, c01, c02 = B * C - F * F, E * F - D * C, D * F - E * B
+    c11, c12, c22 = A * C - E * E, D * E - A * F, A * B - D * D
+    u0, u1, u2 = c00, c01, c02  # M^-1·e0 (times det)
+    v0, v1, v2 = c01 - c02, c11 - c12, c12 - c22  # M^-1·(0, 1, -1) (times det)
+    if frame:
+        lim = p[P.stop] if th1 >= p[P.stop] else p[P.rest]
+        err = th1 - lim
+        k = x[X.lockA] * (u1 - u2) / (v1 - v2)  # with the arm held
+        j0, j1, j2 = u0 - k * v0, u1 - k * v1, u2 - k * v2
+        jx, jv = j0, w1
+        upper = p[P.stop]
+    else:
+        alpha = pa - pt - math.pi
+        lim = p[P.amax] if alpha >= p[P.amax] else p[P.amin]
+        err = alpha - lim
+        k = x[X.lock1] * v0 / u0  # with the frame held
+        j0, j1, j2 = v0 - k * u0, v1 - k * u1, v2 - k * u2
+        jx, jv = j1 - j2, wa - wt
+        upper = p[P.amax]
+    into = err * jv > 0.0  # moving further past the stop
+    lam = -jv / jx if into else 0.0
+    dq0, dq1, dq2 = j0 * lam, j1 * lam, j2 * lam
+    Px = -m * Hy * dq0 - Pa * sa * dq1 - Pt * st * dq2
+    Py = m * Hx * dq0 + Pa * ca * dq1 + Pt * ct * dq2
+    # a hook that has slid less than the hook/card clearance from the corner still has the other face under it:
+    # the impulse meets the corner's two faces, and a hold sets it back in the corner
+    near = s < p[P.clear]
+    release, slide, face, sig = friction_cone(p, 0.0 if near else s, x[X.face], Px, Py, c1, s1)
+    if frame:
+        at_rest = lim == p[P.rest]
+        go = into and release and not at_rest
+        free = False
+    else:
+        at_rest = True
+        free, fpa, fpt, fwa, fwt = arm_impact_lifts(p, x, into and release, jv, err, c1, s1, Hx, Hy)
+        go = free
+    kind = 2.0 if lim == upper else 1.0
+    if free:  # the arm stops about the robot's own centre: the robot's momentum is unchanged
+        x[X.pa], x[X.pt], x[X.wa], x[X.wt] = fpa, fpt, fwa, fwt
+        x[X.lockA], x[X.lockAk] = 1.0, kind
+    if go:
+        release_hook(p, x, sw, t1, t1)
+        return
+    was_sliding = x[X.slide] > 0.0
+    if near and s > 0.0 and not (into and slide):
+        x[X.s], x[X.ws], x[X.slide], x[X.mu_sig] = 0.0, 0.0, 0.0, 0.0
+    corr = -err / jx
+    x[X.th1] = th1 + j0 * corr
+    x[X.pa], x[X.pt] = pa + j1 * corr, pt + j2 * corr
+    x[X.w1], x[X.wa], x[X.wt] = w1 + dq0, wa + dq1, wt + dq2
+    if frame:
+        x[X.lock1], x[X.lock1k] = 1.0, kind
+        x[X.th1] = lim
+    else:
+        x[X.lockA], x[X.lockAk] = 1.0, kind
+    # an impulse outside the static cone but pressing on a face starts (or continues) a slide along it
+    if into and slide and not was_sliding and not at_rest:
+        start_slide(p, x, face, sig)

@@ -1,0 +1,138 @@
+"""What a reduced run returns: :class:`BatchResult` for many designs, a SimResult for one, the outcome's sentence."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ... import results as say
+from ...results import TURN_BACK_DEG, SimResult, Swing
+from .layout import (OUTCOMES, R_AHEAD, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_BEHIND, R_COMPLETED, R_GRAZE,
+                     R_LOW, R_NEVER_DOWN, R_STIFF, R_STOP_HOLD, R_TIMEOUT, R_TURN_BACK, R_TURN_NEAR_STOP, R_WEAK,
+                     REASON_OUTCOME, O, P, W)
+
+# the constants a reason's sentence quotes
+TEXT_KEYS = ("stop_hold", "stop", "held_past", "swing_timeout", "rest_timeout", "t_max")
+_OUTCOME_OF_REASON = np.array([REASON_OUTCOME[r] for r in range(len(REASON_OUTCOME))])
+
+
+@dataclass
+class BatchResult:
+    """What :func:`simulate_batch` returns: one entry per design (arrays of length n)."""
+
+    traversals: np.ndarray  # int: consecutive successful transfers
+    outcome: np.ndarray  # str: completed, no_detach, stalled, fell_short, missed_catch
+    t_detach: np.ndarray  # s: the first swing's detach time (NaN if the hook never let go of frame 0)
+    theta1_detach_deg: np.ndarray  # deg: frame 0's angle at that detach (NaN likewise)
+    sim_time: np.ndarray  # s: simulated time at the run's end (the runner's rules: see the package docstring)
+    miss_distance: np.ndarray  # m: closest the hook came to the next seat after the last catch (NaN if completed);
+    # the hanging is included, so only a run that ``flew`` (the property below) missed by it in flight
+    frames: int
+    swings: dict = field(repr=False, default_factory=dict)  # per-frame arrays (n, frames), NaN where not reached
+    reason_code: np.ndarray = field(repr=False, default=None)
+    reason_values: np.ndarray = field(repr=False, default=None)
+    last_frame: np.ndarray = field(repr=False, default=None)
+    energy: dict | None = field(repr=False, default=None)
+    wall_time: float = 0.0
+    _text: dict = field(repr=False, default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.traversals)
+
+    @property
+    def flew(self) -> np.ndarray:
+        """bool: the run ended in a flight, as :attr:`aero_env.results.SimResult.flew`: the hook let go of the
+        last frame that caught it (that frame's ``t_detach`` is recorded) and the next frame did not catch it."""
+        t_detach = self.swings["t_detach"][np.arange(len(self)), self.last_frame]
+        return (self.outcome != "completed") & np.isfinite(t_detach)
+
+    def reason(self, i: int) -> str:
+        """Design i's outcome as a sentence with numbers (the runner's wording)."""
+        return reason_text(int(self.reason_code[i]), *self.reason_values[i], int(self.last_frame[i]),
+                           {k: v[i] for k, v in self._text.items()})
+
+
+def batch_result(table: np.ndarray, out: np.ndarray, sw: np.ndarray, frames: int, wall: float,
+                 detail: bool) -> BatchResult:
+    reason = out[:, O.reason].astype(np.int64)
+    outcome = np.array(OUTCOMES, dtype=object)[_OUTCOME_OF_REASON[reason]].astype(str)
+    miss = np.where(outcome == "completed", np.nan, out[:, O.miss])
+    miss = np.where(np.isfinite(miss), miss, np.nan)
+    swings = {w.name: sw[:, w, :] for w in W}
+    energy = None
+    if detail:
+        energy = dict(initial=out[:, O.e_first], final=out[:, O.e_last], max_gain=out[:, O.e_gain],
+                      max_rise=out[:, O.e_rise])
+    return BatchResult(traversals=out[:, O.traversals].astype(np.int64), outcome=outcome,
+                       t_detach=swings["t_detach"][:, 0].copy(), theta1_detach_deg=swings["theta1_detach"][:, 0].copy(),
+                       sim_time=out[:, O.end_time].copy(), miss_distance=miss, frames=frames, swings=swings,
+                       reason_code=reason, reason_values=out[:, [O.v1, O.v2]].copy(),
+                       last_frame=out[:, O.last_frame].astype(np.int64), energy=energy, wall_time=wall,
+                       _text={k: table[:, P[k]].copy() for k in TEXT_KEYS})
+
+
+def sim_result(res: BatchResult, i: int, fidelity: str) -> SimResult:
+    """Design i of a batch as the pymunk runner's :class:`~aero_env.results.SimResult` (the energy is the
+    model's: frames, robot parts and spring; health is all zeros)."""
+    sw = res.swings
+    opt = lambda v: None if np.isnan(v) else float(v)  # noqa: E731
+    swings = []
+    for j in range(res.frames):
+        tc = sw["t_catch"][i, j]
+        if np.isnan(tc):
+            break
+        td = sw["t_detach"][i, j]
+        swings.append(Swing(j, float(tc), float(sw["theta1_catch"][i, j]), float(sw["theta2_catch"][i, j]),
+                            t_detach=opt(td), theta1_detach_deg=opt(sw["theta1_detach"][i, j]),
+                            swing_duration=None if np.isnan(td) else float(td - tc),
+                            alpha_detach_deg=opt(sw["alpha_detach"][i, j]),
+                            theta2_min_deg=opt(sw["theta2_min"][i, j]), theta2_max_deg=opt(sw["theta2_max"][i, j]),
+                            catch_seat_mm=opt(sw["catch_seat"][i, j] * 1e3)))
+    outcome = str(res.outcome[i])
+    miss = res.miss_distance[i]
+    energy = {k: float(v[i]) for k, v in res.energy.items()} if res.energy is not None else {}
+    return SimResult(traversals=int(res.traversals[i]), frames=res.frames, outcome=outcome, reason=res.reason(i),
+                     swings=swings, energy=energy, sim_time=float(res.sim_time[i]), wall_time=res.wall_time,
+                     miss_distance=None if outcome == "completed" or not np.isfinite(miss) else float(miss),
+                     health=dict(joint_drift=0.0, limit_overshoot_deg=0.0, penetration=0.0), fidelity=fidelity)
+
+
+def reason_text(code: int, v1: float, v2: float, origin: int, c: dict) -> str:
+    """The sentence for a reason code, in the words the pymunk runner uses (:mod:`aero_env.results`); the
+    energy-barrier stalls are this model's own. ``c``: the design's TEXT_KEYS constants."""
+    if code == R_COMPLETED:
+        return say.completed(origin)
+    if code == R_STOP_HOLD:
+        return say.held_at_stop(origin, c["stop_hold"], math.degrees(c["stop"]))
+    if code == R_TURN_NEAR_STOP:
+        return say.turned_back_holding(origin, v1, math.degrees(c["held_past"]))
+    if code == R_TURN_BACK:
+        return say.turned_back(origin, v1)
+    if code == R_TIMEOUT:
+        return say.swing_too_long(origin, c["swing_timeout"])
+    if code == R_BARRIER:
+        return (f"swing on frame {origin} would last over {c['swing_timeout']} s: the frame cannot climb "
+                f"{TURN_BACK_DEG:.0f} deg above its rest with the energy it has, or fell back to its rest stop "
+                f"(too little moment imbalance)")
+    if code == R_AT_REST:
+        return say.never_left_rest(origin, c["rest_timeout"])
+    if code == R_BARRIER_REST:
+        return (f"frame {origin} would never leave its rest angle in {c['rest_timeout']} s with the robot hooked "
+                f"(it cannot climb with the energy it has): the counterbalance outweighs the robot")
+    if code == R_STIFF:
+        return say.spring_too_stiff(origin, v1)
+    if code == R_LOW:
+        return say.released_low(origin, v1)
+    if code == R_GRAZE:
+        return say.grazed(origin, v1)
+    if code == R_NEVER_DOWN:
+        return say.never_came_down(origin)
+    if code == R_WEAK:
+        return say.spring_too_weak(origin, v1)
+    if code == R_BEHIND:
+        return say.passed_behind(origin, v1)
+    if code == R_AHEAD:
+        return say.passed_ahead(origin, v1)
+    return say.reached_t_max(c["t_max"])

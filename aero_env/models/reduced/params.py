@@ -1,0 +1,208 @@
+"""From configs to the kernel's table of per-design constants (SI), vectorised over the designs.
+
+``raw_from_configs`` reads the fields the model uses (dotted keys -> arrays), ``check_raw`` applies
+the config's cross-checks to arrays, and ``param_table`` derives every constant the phases read,
+one row per design, one column per name of :data:`.layout.P`.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from ... import units
+from ...config import Config, ConfigError
+from ...inertia import RobotParts
+from ...results import held_past_angle
+from .constants import DRY_FRICTION_RATE, DRY_FRICTION_STEP, MOUTH_END_REACH, STEP
+from .layout import P
+
+# The config fields the model reads, by dotted key (everything else is ignored).
+DESIGN_KEYS = ("La", "Lb", "Lc", "Ld", "h", "m1", "m2", "m3", "dT", "spring_k", "mu_s", "mu_k", "arm_length",
+               "arm_mass", "torso_length", "coin_mass", "coin_radius", "coin_offset", "handrail_mass",
+               "pivot_friction", "axle_friction", "alpha_min_deg", "alpha_max_deg", "rest_angle_deg", "stop_angle_deg",
+               "notch_angle_deg", "notch_opening_deg", "notch_back_face", "notch_front_face",
+               "handrail_thickness", "hook_radius")
+SCENE_KEYS = ("pitch", "rise", "theta2_start_deg", "floor_drop")
+SIM_KEYS = ("contact_hold", "flight_timeout", "swing_timeout", "rest_timeout", "stop_hold", "t_max",
+            "min_release_height", "slip_speed", "catch_seat")
+ALPHA_GRID = 33  # arm angles between the stops where the stall test looks for the robot's lowest potential
+
+
+class _DesignArrays:
+    """The ``design.*`` arrays of a raw batch as attributes, for :class:`aero_env.inertia.RobotParts`."""
+
+    def __init__(self, raw):
+        for k, v in raw.items():
+            if k.startswith("design."):
+                setattr(self, k[7:], v)
+
+
+def raw_from_configs(cfgs: Sequence[Config]) -> dict:
+    raw = {}
+    for k in DESIGN_KEYS:
+        raw["design." + k] = np.array([getattr(c.design, k) for c in cfgs], dtype=float)
+    for k in SCENE_KEYS:
+        raw["scene." + k] = np.array([getattr(c.scene, k) for c in cfgs], dtype=float)
+    for k in SIM_KEYS:
+        raw["sim." + k] = np.array([getattr(c.sim, k) for c in cfgs], dtype=float)
+    raw["spring_stiffening"] = np.array([c.scene.effects.spring_law == "stiffening" for c in cfgs], dtype=float)
+    set_friction_law(raw, [c.scene.effects.friction for c in cfgs])
+    return raw
+
+
+def set_friction_law(raw: dict, laws) -> None:
+    """The coefficients a hook holds with and slides with, under ``scene.effects.friction``: the static/kinetic
+    switch (``static_kinetic``), or one coefficient throughout (``static``, ``kinetic``)."""
+    laws = np.broadcast_to(np.asarray(laws, dtype=object), raw["design.mu_s"].shape)
+    mu_s, mu_k = raw["design.mu_s"], raw["design.mu_k"]
+    raw["mu_hold"] = np.where(laws == "kinetic", mu_k, mu_s)
+    raw["mu_slide"] = np.where(laws == "static", mu_s, mu_k)
+
+
+def check_scene(cfgs: Sequence[Config]) -> int:
+    if len(cfgs) == 0:
+        raise ValueError("simulate_batch: no configs")
+    frames = cfgs[0].scene.frames
+    for i, c in enumerate(cfgs):
+        if c.scene.frames != frames:
+            raise ConfigError(f"simulate_batch: config {i} has scene.frames = {c.scene.frames}, config 0 has "
+                              f"{frames}: one batch runs one row length")
+        if c.scene.effects.hook != "contact":
+            raise ConfigError(f"config {i}: scene.effects.hook = {c.scene.effects.hook!r}: the reduced model "
+                              f"models the frictional hook only (the pinned hook is aero_env.models.two_link)")
+    return frames
+
+
+def step_for(cfg: Config) -> float:
+    """The integration step: the config's sim.dt when its sim.model names this model, else STEP."""
+    return float(cfg.sim.dt) if getattr(cfg.sim, "model", None) == "reduced" else STEP
+
+
+def check_raw(raw) -> None:
+    """config._check_design's cross-checks, vectorised."""
+    d = lambda k: raw["design." + k]  # noqa: E731
+    checks = [
+        (d("mu_k") > d("mu_s"), "design.mu_k must not exceed design.mu_s"),
+        (~(d("alpha_min_deg") < d("alpha_max_deg")), "design.alpha_max_deg must exceed design.alpha_min_deg"),
+        (~((d("stop_angle_deg") - d("rest_angle_deg") >= 10.0) & (d("stop_angle_deg") - d("rest_angle_deg") <= 270.0)),
+         "the frame must be able to turn from rest_angle_deg to stop_angle_deg by 10 to 270 deg"),
+        (np.abs(d("dT")) > d("m1") * units.GRAVITY * np.maximum(d("La"), d("Lb")),
+         "design.dT would put the frame's centre of mass beyond its ends"),
+        (d("arm_mass") + d("coin_mass") + d("handrail_mass") >= d("m2"),
+         "design.m2 must exceed its listed parts arm_mass + coin_mass + handrail_mass"),
+        (d("coin_offset") > d("torso_length"), "design.coin_offset must not exceed design.torso_length"),
+    ]
+    for bad, what in checks:
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise ConfigError(f"design {i}: {what}")
+
+
+def spring_energy(k, stiff, da):
+    """The leaf spring's energy at da past alpha_min: k·da²/2 (linear), k·|da|³/6 (stiffening)."""
+    return np.where(stiff > 0, k * np.abs(da) ** 3 / 6.0, 0.5 * k * da * da)
+
+
+def param_table(raw: Mapping[str, np.ndarray], dt: float) -> np.ndarray:
+    """Every per-design constant of the model, (n, len(P)) float64, from the raw config fields and the step."""
+    d = lambda k: raw["design." + k]  # noqa: E731
+    g = units.GRAVITY
+    rad = np.radians
+    c = {}
+    La, Lb, h, m1, m3 = d("La"), d("Lb"), d("h"), d("m1"), d("m3")
+    dT = d("dT")
+    mh = d("handrail_mass")
+    # the frame: own inertia (consistent I1), own centre of mass from dT (as engine_params), the counterbalance,
+    # and the handrail's card, a point mass at the seat (-Lb, 0) (swing_frame.SwingFrame)
+    x_f = -dT / (m1 * g)
+    I1 = 2.0 * m1 / 3.0 * (La**2 + Lb**2 - La * Lb)
+    c["If"] = I1 + m1 * x_f**2 + m3 * (La**2 + h**2) + mh * Lb**2
+    c["m3gh"] = m3 * g * h
+    # the frame's own, the counterbalance's and the handrail card's moment: cfr·cos(theta1) + m3gh·sin(theta1)
+    c["cfr"] = dT - m3 * g * La + mh * g * Lb
+    c["frame_m"] = m1 + m3 + mh
+    # the robot from its parts (aero_env.inertia.RobotParts, as the pymunk robot is built)
+    parts = RobotParts(_DesignArrays(raw))
+    ma, mt, m2 = parts.m_arm, parts.m_torso, parts.mass
+    L, dc = parts.arm_length, parts.torso_com
+    amin, amax = rad(d("alpha_min_deg")), rad(d("alpha_max_deg"))
+    c["m"], c["mg"] = m2, m2 * g
+    Pa = c["Pa"] = ma * L / 2.0 + mt * L  # first moments about the hook of the arm direction ...
+    Pt = c["Pt"] = mt * dc  # ... and of the torso direction
+    Ja = c["Ja"] = parts.I_arm + ma * L**2 / 4.0 + mt * L**2  # arm + torso about the hook (arm coordinate)
+    Jt = c["Jt"] = parts.I_torso + mt * dc**2  # torso about the axle
+    Pat = c["Pat"] = mt * L * dc
+    # about the centre of mass (flight): kinetic energy Ka·wa²/2 + Kt·wt²/2 + Kat·cos(pa - pt)·wa·wt
+    Ka, Kt, Kat = c["Ka"], c["Kt"], c["Kat"] = Ja - Pa**2 / m2, Jt - Pt**2 / m2, Pat - Pa * Pt / m2
+    c["Pag"], c["Ptg"] = Pa * g, Pt * g
+    k, stiff = c["k"], c["stiff"] = d("spring_k"), raw["spring_stiffening"]
+    c["amin"], c["amax"] = amin, amax
+    c["alim"] = np.pi + amin  # the spring is straight at phi_a - phi_t = this
+    c["snap"] = amin + 0.5 * (amax - amin)  # the runner's "snapped" arm angle (half its range)
+    hk, _, _, cm = parts.layout(amax)
+    c["line_amax"] = np.arctan2(hk[1] - cm[1], hk[0] - cm[0])  # the centre -> hook line in the torso's frame, bent
+    c["mu_s"], c["mu_k"] = raw["mu_hold"], raw["mu_slide"]
+    c["phi_s"] = np.arctan(raw["mu_hold"])
+    c["r_hook"] = d("hook_radius")
+    # the notch (frame-local, as swing_frame.SwingFrame builds it)
+    rest, stop = rad(d("rest_angle_deg")), rad(d("stop_angle_deg"))
+    c["rest"], c["stop"], c["Lb"] = rest, stop, Lb
+    c["held_past"] = held_past_angle(_DesignArrays(raw))  # the runner's turn-back rule, the same function
+    beta = rad(d("notch_angle_deg")) - rest  # bisector, local
+    o = rad(d("notch_opening_deg"))
+    nb_sf = (np.cos(beta - o / 2), np.sin(beta - o / 2))  # swing_frame's n_back (= the front face's direction)
+    nf_sf = (np.cos(beta + o / 2), np.sin(beta + o / 2))  # swing_frame's n_front (= the back face's direction)
+    cl = c["clear"] = d("handrail_thickness") / 2.0 + d("hook_radius")
+    denom = 1.0 + nb_sf[0] * nf_sf[0] + nb_sf[1] * nf_sf[1]
+    corner = (-Lb - (nb_sf[0] + nf_sf[0]) * cl / denom, -(nb_sf[1] + nf_sf[1]) * cl / denom)
+    c["p0x"], c["p0y"] = -Lb, np.zeros_like(Lb)
+    # back face: direction nf_sf, inward normal = direction rotated by -90 deg; front face: nb_sf, +90 deg
+    c["ubx"], c["uby"] = nf_sf
+    c["nbx"], c["nby"] = nf_sf[1], -nf_sf[0]
+    c["ufx"], c["ufy"] = nb_sf
+    c["nfx"], c["nfy"] = -nb_sf[1], nb_sf[0]
+    sc = (-Lb - corner[0], -corner[1])  # the seat relative to the corner
+    c["s_end_b"] = d("notch_back_face") - (sc[0] * nf_sf[0] + sc[1] * nf_sf[1])
+    c["s_end_f"] = d("notch_front_face") - (sc[0] * nb_sf[0] + sc[1] * nb_sf[1])
+    c["beta"] = beta
+    half = 0.5 * np.pi - o / 2  # each face's normal makes this angle with the bisector
+    c["cone_half"] = half + c["phi_s"]  # the corner's union cone: |angle(F) - beta| <= this
+    c["face_off"] = half  # the back face's normal is at beta - half, the front face's at beta + half
+    # the mouth of a notch at rest (offsets from its frame's axis), its seat, its bisector
+    cr, sr = np.cos(rest), np.sin(rest)
+    rot = lambda x, y: (cr * x - sr * y, sr * x + cr * y)  # noqa: E731
+    ebx, eby = corner[0] + nf_sf[0] * d("notch_back_face"), corner[1] + nf_sf[1] * d("notch_back_face")
+    efx, efy = corner[0] + nb_sf[0] * d("notch_front_face"), corner[1] + nb_sf[1] * d("notch_front_face")
+    # the hook touches a face's end when its centre comes within the hook/card clearance of it: the window
+    # runs that far past each end (pymunk's catch is any 10 ms touch, a face's tip included)
+    mx, my = efx - ebx, efy - eby
+    ext = MOUTH_END_REACH * cl / np.hypot(mx, my)
+    c["mbx"], c["mby"] = rot(ebx - ext * mx, eby - ext * my)
+    c["mfx"], c["mfy"] = rot(efx + ext * mx, efy + ext * my)
+    c["seatx"], c["seaty"] = rot(-Lb, 0.0 * Lb)
+    c["bisx"], c["bisy"] = np.cos(beta + rest), np.sin(beta + rest)
+    # the scene and the runner's limits
+    c["pitch"], c["rise"], c["floor_drop"] = raw["scene.pitch"], raw["scene.rise"], raw["scene.floor_drop"]
+    c["theta2_start"] = rad(raw["scene.theta2_start_deg"])
+    for key in SIM_KEYS:
+        c[key] = raw["sim." + key]
+    # the stall test: the robot hanging from a fixed hook, its lowest potential over alpha, and the energy scale
+    al = amin[None, :] + (amax - amin)[None, :] * np.linspace(0.0, 1.0, ALPHA_GRID)[:, None]
+    hk, _, _, cm = parts.layout(al)
+    dist = np.hypot(hk[0] - cm[0], hk[1] - cm[1])
+    c["W_min"] = np.min(spring_energy(k, stiff, al - amin) - m2 * g * dist, axis=0)
+    c["e_scale"] = (m2 + m3) * g * (La + Lb) + spring_energy(k, stiff, amax - amin)
+    # dry friction, regularised (DRY_FRICTION_RATE): torque -clip(c·w, -T, T), c = T / rate, the rate raised where
+    # the step needs it (DRY_FRICTION_STEP) against the coordinate's smallest inertia: the frame alone for the
+    # skewer, the free robot's alpha for the axle
+    pf, af = c["pf"], c["af"] = d("pivot_friction"), d("axle_friction")
+    I_af = (Ka * Kt - Kat**2) / (Ka + Kt + 2.0 * np.abs(Kat))
+    c["pf_c"] = pf / np.maximum(DRY_FRICTION_RATE, pf * dt / (c["If"] * DRY_FRICTION_STEP))
+    c["af_c"] = af / np.maximum(DRY_FRICTION_RATE, af * dt / (I_af * DRY_FRICTION_STEP))
+    n = len(La)
+    table = np.empty((n, len(P)))
+    for name in P:
+        table[:, name] = np.broadcast_to(np.asarray(c[name.name], dtype=float), (n,))
+    return table

@@ -1,0 +1,108 @@
+"""What changes a design's phase: the end of its run, the hook letting go, a slide starting, a swing starting.
+
+Scalar code for one design (``p`` its constants, ``x`` its state, ``out`` its results, ``sw`` its
+per-frame swing records), compiled by numba.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ... import units
+from ...results import TURN_BACK_DEG
+from .constants import BARRIER_GRID, ENERGY_BARRIER_MARGIN
+from .hooked_dynamics import com_velocity_from_hook, hook_from_com, hooked_energy
+from .layout import DONE, FLIGHT, O, P, W, X
+
+G = units.GRAVITY
+
+
+@njit(cache=True, error_model="numpy")
+def finish(x, out, reason, t_end, v1, v2):
+    """End the run with ``reason`` at t_end (v1, v2: the numbers its sentence quotes; NaN where it quotes none)."""
+    out[O.reason] = reason
+    out[O.end_time] = t_end
+    out[O.last_frame] = x[X.fi]
+    out[O.v1], out[O.v2] = v1, v2
+    out[O.miss] = x[X.closest]
+    x[X.phase] = DONE
+
+
+@njit(cache=True, error_model="numpy")
+def track_energy(out, e):
+    if math.isnan(out[O.e_first]):
+        out[O.e_first] = e
+    out[O.e_last] = e
+    out[O.e_gain] = max(out[O.e_gain], e - out[O.e_first])
+    out[O.e_min] = min(out[O.e_min], e)
+    out[O.e_rise] = max(out[O.e_rise], e - out[O.e_min])
+
+
+@njit(cache=True, error_model="numpy")
+def parked_energy(parked, fi, left_at_stop):
+    """Potential energy of the frames the robot is not on (ahead: at rest; behind: at their stop), from the
+    per-frame cumulative sums ``parked`` (row 0 at the stop, row 1 at rest) made at the start."""
+    upto = fi + 1 if left_at_stop else fi
+    return parked[0, upto] + parked[1, parked.shape[1] - 1] - parked[1, fi + 1]
+
+
+@njit(cache=True, error_model="numpy")
+def start_slide(p, x, face, sig):
+    """The hook starts sliding along a face (0 back, 1 front) in the sense sig (+1 outward)."""
+    x[X.face], x[X.sig], x[X.slide] = face, sig, 1.0
+    x[X.mu_sig] = p[P.mu_k] * sig
+    if face > 0.5:
+        x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ufx], p[P.ufy], p[P.nfx], p[P.nfy]
+    else:
+        x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ubx], p[P.uby], p[P.nbx], p[P.nby]
+
+
+@njit(cache=True, error_model="numpy")
+def release_hook(p, x, sw, t_state, t_det):
+    """The hook lets go of frame fi: flight from the current state (at time t_state); detach time t_det."""
+    fi = int(x[X.fi])
+    th1, pa, pt = x[X.th1], x[X.pa], x[X.pt]
+    c1, s1 = math.cos(th1), math.sin(th1)
+    ux, uy = x[X.ux], x[X.uy]
+    px, py = p[P.p0x] + x[X.s] * ux, p[P.p0y] + x[X.s] * uy
+    Hx, Hy = c1 * px - s1 * py, s1 * px + c1 * py
+    uwx, uwy = c1 * ux - s1 * uy, s1 * ux + c1 * uy
+    vHx, vHy = -Hy * x[X.w1] + uwx * x[X.ws], Hx * x[X.w1] + uwy * x[X.ws]
+    hx, hy = hook_from_com(p, pa, pt)
+    dvx, dvy = com_velocity_from_hook(p, pa, pt, x[X.wa], x[X.wt])
+    ox, oy = fi * p[P.pitch] + Hx, fi * p[P.rise] + Hy  # the hook, world
+    x[X.cx0], x[X.cy0] = ox - hx, oy - hy
+    x[X.vx0], x[X.vy0] = vHx + dvx, vHy + dvy
+    x[X.t0f], x[X.t_rel] = t_state, t_det
+    alpha = pa - pt - math.pi
+    x[X.a_rel] = alpha
+    x[X.h_rel] = oy - ((fi + 1) * p[P.rise] + p[P.seaty])
+    x[X.hx], x[X.hy] = ox, oy
+    x[X.t_snap], x[X.t_cross] = math.nan, math.nan
+    x[X.in_notch] = 0.0
+    x[X.graze] = math.inf
+    x[X.slide], x[X.mu_sig], x[X.ws], x[X.lock1], x[X.lock1k] = 0.0, 0.0, 0.0, 0.0, 0.0
+    x[X.phase] = FLIGHT
+    sw[W.t_detach, fi] = t_det
+    sw[W.theta1_detach, fi] = math.degrees(th1)
+    sw[W.alpha_detach, fi] = math.degrees(alpha)
+
+
+@njit(cache=True, error_model="numpy")
+def start_swing(p, x, t):
+    """Bookkeeping at a catch (or the start): the peak, and whether the frame can climb TURN_BACK_DEG above its
+    rest at all with the energy it has, the robot hanging at its lowest (the stall test, STALL_WINDOW)."""
+    x[X.t_catch] = t
+    x[X.peak] = x[X.th1]
+    x[X.t_stop] = math.nan
+    x[X.closest] = math.inf
+    e = hooked_energy(p, x, 0.0)
+    top = -math.inf
+    for i in range(BARRIER_GRID):
+        th = max(p[P.rest] + math.radians(TURN_BACK_DEG) * i / (BARRIER_GRID - 1), x[X.th1])
+        v_floor = (-p[P.cfr] * math.sin(th) + p[P.m3gh] * math.cos(th) - p[P.m] * G * p[P.Lb] * math.sin(th)
+                   + p[P.W_min])
+        top = max(top, v_floor)
+    x[X.barrier] = 1.0 if top - e > ENERGY_BARRIER_MARGIN * p[P.e_scale] else 0.0
