@@ -60,9 +60,6 @@ def test_the_prototype_first_swing_detaches_where_the_pymunk_world_does(proto, p
     assert first.theta2_max_deg == pytest.approx(world.theta2_max_deg, abs=3.0)
 
 
-@pytest.mark.xfail(strict=True, reason="the reduced model's flight-entered swings last 0.8-0.9 s where the pymunk "
-                   "world's last 0.60-0.64 s (the catch gives the new frame too little of the robot's momentum); "
-                   "the robot falls short of frame 3 (2 of 7 traversals). Known miss, see the module docstring.")
 def test_the_prototype_completes_the_row_with_flight_entered_swings_as_the_pymunk_world(proto):
     assert (proto.outcome, proto.traversals, proto.frames) == ("completed", 7, 8)
     assert [s.frame for s in proto.swings] == list(range(8))
@@ -105,11 +102,12 @@ def test_a_hook_that_cannot_let_go_swings_as_the_two_link_model_of_the_parts():
     cfg = load_config(PAPER, {**FRICTIONLESS, "design.spring_k": 2e-4})
     tr = swing_trace(cfg, 0.8, detach=False)
     d = cfg.design
-    assert np.all(np.abs(tr["alpha"] - math.radians(d.alpha_max_deg)) < 1e-9)  # the arm never left its stop
     ref = two_link.simulate(d, math.radians(55), math.radians(81), t_end=0.8, until_theta1=math.radians(179),
                             robot="parts")
     m = tr["t"] <= ref.t[-1]
     assert m.sum() > 150
+    # the arm never left its stop before the frame reached its end stop (whose jolt may throw it off)
+    assert np.all(np.abs(tr["alpha"][m] - math.radians(d.alpha_max_deg)) < 1e-9)
     assert np.max(np.abs(np.interp(tr["t"][m], ref.t, ref.theta1) - tr["theta1"][m])) < math.radians(0.05)
     assert np.max(np.abs(np.interp(tr["t"][m], ref.t, ref.theta2) - tr["theta2"][m])) < math.radians(0.05)
 
@@ -205,8 +203,8 @@ def test_a_batch_gives_each_design_what_it_gets_alone_bit_for_bit():
         td = one.swings[0].t_detach
         assert (td is None and np.isnan(batch.t_detach[i])) or td == batch.t_detach[i] == backwards.t_detach[j]
         assert one.reason == batch.reason(i)
-    # the sample spans the model's branches (none completes the row in this model: see the xfail above)
-    assert set(batch.outcome) == {"stalled", "no_detach", "fell_short", "missed_catch"}
+    # the sample spans the model's outcomes
+    assert set(batch.outcome) == {"completed", "stalled", "no_detach", "fell_short", "missed_catch"}
 
 
 def test_the_same_inputs_give_bit_identical_outputs():

@@ -42,10 +42,14 @@ faces' static friction cones (atan(mu_s) about each inward normal). F leaving it
 pressing on that face, starts a slide along the face with kinetic friction (a fourth coordinate s;
 -mu_k·N·sign(s') with N solved together with the accelerations); the hook lets go when its centre
 passes the face's end (length minus the hook/card clearance) or when N turns tensile; a slide that
-stops sticks again. F pulling on both faces lets go at once. Impacts (:mod:`.impacts`) are inelastic.
+stops sticks again. F pulling on both faces lets go at once. The tip turning in the notch faster than
+``sim.slip_speed`` holds with mu_k, as the pymunk world's static/kinetic switch reads the slip at
+the contact. Impacts (:mod:`.impacts`) are inelastic, and every stop is one-sided in them: a frame
+on its rest stop that the arm's impact throws forward leaves the stop.
 
 **Flight and catch** (:mod:`.flight`, :mod:`.catch`): a ballistic centre of mass, the arm snapping
-about it, a geometric catch at the next notch's mouth and an inelastic catch impulse.
+about it, a geometric catch at the next notch's mouth (a hook that meets a face moving into the notch
+is guided to the seat; one that slides back out along it grazes) and an inelastic catch impulse.
 
 **Outcomes and times** follow :mod:`aero_env.physics.run` (its thresholds are restated in the
 phases): ``t_detach`` is when the hook leaves the handrail, ``t_catch`` when it enters the next

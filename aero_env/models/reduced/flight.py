@@ -4,10 +4,11 @@ The centre of mass is ballistic (closed form); arm and torso turn about it with 
 momentum conserved and the leaf spring snapping the arm toward alpha_min (kinetic energy
 Ka·wa²/2 + Kt·wt²/2 + Kat·cos(phi_a - phi_t)·wa·wt; inelastic arm stops). The catch is geometric:
 the hook's centre crosses the mouth of the next notch downward with the arm snapped forward, then
-reaches the seat's depth within ``sim.catch_seat`` of the seat (farther: a graze). A transfer that is
-not caught ends as the runner ends it (the centre of mass at the floor, the flight timeout, or
-decided: the hook fallen below the next mouth) and is named as the runner's ``_classify_miss``
-names it.
+meets a face (or reaches the seat's depth): moving into the notch it is guided to the seat, a catch;
+still moving outward along the face after the impact's friction it slides back out, a graze
+(``seat_reached``). A transfer that is not caught ends as the runner ends it (the centre of mass at
+the floor, the flight timeout, or decided: the hook fallen below the next mouth) and is named as the
+runner's ``_classify_miss`` names it.
 """
 
 from __future__ import annotations
@@ -109,6 +110,45 @@ def arm_stop_in_flight(p, x, pa, pt, wa, wt):
     return pa, pt, wa, wt
 
 
+NO_CATCH, CAUGHT, GRAZED = 0, 1, 2  # seat_reached's verdicts
+
+
+@njit(cache=True, error_model="numpy")
+def seat_reached(p, dx0, dy0, dx1, dy1, dt):
+    """Inside the next notch's mouth, the hook's centre moved from (dx0, dy0) to (dx1, dy1) (from the seat) in dt:
+    did it reach the seat? Returns (verdict, fraction of the step, distance from the seat there).
+
+    It meets a face where its centre reaches the face's line (the line its centre cannot cross, from the seat
+    along the face). The impact takes its normal velocity and, by the card's kinetic friction, up to mu_k·|v_n| of
+    its velocity along the face: what is left moving outward along the face takes it back out of the notch (the
+    runner's graze: a touch that never seats); otherwise the faces guide it into the corner (the model then sets
+    it on the seat). Reaching the seat's depth without meeting a face, it lands in the corner."""
+    first, face = 2.0, -1
+    for k in range(2):
+        nx, ny = (p[P.rbnx], p[P.rbny]) if k == 0 else (p[P.rfnx], p[P.rfny])
+        d0, d1 = dx0 * nx + dy0 * ny, dx1 * nx + dy1 * ny
+        if d1 < 0.0:  # past this face's line by the step's end
+            lam = min(max(d0 / (d0 - d1), 0.0), 1.0) if d0 > 0.0 else 0.0
+            if lam < first:
+                first, face = lam, k
+    b0, b1 = dx0 * p[P.bisx] + dy0 * p[P.bisy], dx1 * p[P.bisx] + dy1 * p[P.bisy]
+    if b1 <= 0.0:  # the seat's depth
+        lam = min(max(b0 / (b0 - b1 if b0 != b1 else 1.0), 0.0), 1.0)
+        if lam < first:
+            first, face = lam, -2
+    if face == -1:
+        return NO_CATCH, 0.0, 0.0
+    gap = math.hypot(dx0 + first * (dx1 - dx0), dy0 + first * (dy1 - dy0))
+    if face == -2:
+        return CAUGHT, first, gap
+    ux, uy = (p[P.rbux], p[P.rbuy]) if face == 0 else (p[P.rfux], p[P.rfuy])
+    nx, ny = (p[P.rbnx], p[P.rbny]) if face == 0 else (p[P.rfnx], p[P.rfny])
+    vx, vy = (dx1 - dx0) / dt, (dy1 - dy0) / dt
+    if vx * ux + vy * uy > p[P.mu_k] * max(-(vx * nx + vy * ny), 0.0):
+        return GRAZED, first, gap
+    return CAUGHT, first, gap
+
+
 @njit(cache=True, error_model="numpy")
 def flight_stage(p, x, out, sw, t, dt, frames, detail, parked):
     """Advance a flying design from t to t + dt: the arm's motion, the hook's path, the catch or the miss."""
@@ -165,22 +205,17 @@ def flight_stage(p, x, out, sw, t, dt, frames, detail, parked):
     if entered:
         x[X.t_mouth] = t + lam * dt
     in_notch = (was_in or entered) and not (leave and was_in)
-    depth = (hx - seat_x) * p[P.bisx] + (hy - seat_y) * p[P.bisy]
-    if in_notch and depth <= 0.0:
-        # the world's catch needs the hook's centre within sim.catch_seat of the seat: here, where the free hook
-        # reaches the seat's depth (the model then sets it on the seat); farther is a graze
-        d0 = (hx0 - seat_x) * p[P.bisx] + (hy0 - seat_y) * p[P.bisy]
-        lam_d = min(max(d0 / (d0 - depth if d0 != depth else 1.0), 0.0), 1.0)
-        gap = math.hypot(hx0 + lam_d * (hx - hx0) - seat_x, hy0 + lam_d * (hy - hy0) - seat_y)
-        if gap > p[P.catch_seat]:
+    if in_notch:
+        verdict, lam_c, gap = seat_reached(p, hx0 - seat_x, hy0 - seat_y, hx - seat_x, hy - seat_y, dt)
+        if verdict == CAUGHT:  # the state there: arm and torso interpolated inside the step
+            x[X.in_notch] = 1.0
+            x[X.pa], x[X.pt] = pa0 + lam_c * (pa - pa0), pt0 + lam_c * (pt - pt0)
+            x[X.wa], x[X.wt] = wa0 + lam_c * (wa - wa0), wt0 + lam_c * (wt - wt0)
+            catch(p, x, out, sw, t + lam_c * dt, t1, gap, frames)
+            return
+        if verdict == GRAZED:
             x[X.graze] = min(x[X.graze], gap)
             in_notch = False
-        else:  # the state where the hook reached the seat's depth: arm and torso interpolated inside the step
-            x[X.in_notch] = 1.0
-            x[X.pa], x[X.pt] = pa0 + lam_d * (pa - pa0), pt0 + lam_d * (pt - pt0)
-            x[X.wa], x[X.wt] = wa0 + lam_d * (wa - wa0), wt0 + lam_d * (wt - wt0)
-            catch(p, x, out, sw, t + lam_d * dt, t1, gap, frames)
-            return
     x[X.in_notch] = 1.0 if in_notch else 0.0
     # the end of a transfer that was not caught
     low_mouth = min(min(ay, oy + p[P.mfy]), seat_y) - NOTCH_EXIT_MARGIN

@@ -234,17 +234,19 @@ def wrap(a):
 
 
 @njit(cache=True, error_model="numpy")
-def friction_cone(p, s, face, Fx, Fy, c1, s1):
+def friction_cone(p, s, face, Fx, Fy, c1, s1, phi):
     """Where the handrail's force (or impulse) (Fx, Fy) on the hook falls against the notch's friction cones.
 
     Returns (release, slide, face, sig): release where no face can push (tensile); slide where the force leaves
     the static cone with a compressive face (face 0 back, 1 front; sig +1 outward along the face, -1 toward the
-    corner). Otherwise the hook holds. ``s``: the hook's place along its face (in the corner at 0)."""
+    corner). Otherwise the hook holds. ``s``: the hook's place along its face (in the corner at 0); ``phi``: the
+    cone's half-angle, atan of the friction coefficient the contact has now."""
     flx, fly = c1 * Fx + s1 * Fy, c1 * Fy - s1 * Fx
     dl = wrap(math.atan2(fly, flx) - p[P.beta])
     half = 0.5 * math.pi
     if s <= S_CORNER:  # in the corner: the union of both faces' cones
-        out_b, out_f = dl < -p[P.cone_half], dl > p[P.cone_half]
+        cone_half = p[P.face_off] + phi
+        out_b, out_f = dl < -cone_half, dl > cone_half
         comp_b, comp_f = dl + p[P.face_off] > -half, dl - p[P.face_off] < half
         release = (out_b and not comp_b) or (out_f and not comp_f)
         slide = (out_b and comp_b) or (out_f and comp_f)
@@ -252,7 +254,7 @@ def friction_cone(p, s, face, Fx, Fy, c1, s1):
     kappa = 2.0 * face - 1.0  # on one face: -1 back, +1 front
     rho = dl - kappa * p[P.face_off]
     tensile = abs(rho) > half
-    return tensile, abs(rho) > p[P.phi_s] and not tensile, face, 1.0 if kappa * rho > 0.0 else -1.0
+    return tensile, abs(rho) > phi and not tensile, face, 1.0 if kappa * rho > 0.0 else -1.0
 
 
 @njit(cache=True, error_model="numpy")

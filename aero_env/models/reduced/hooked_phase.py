@@ -44,13 +44,16 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
     px, py, A = hook_on_frame(p, x)
     th1, pa, pt, w1, wa, wt = x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt]
     a0, a1, a2, Fx, Fy, lam1, lamA, c1, s1 = stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt)
-    release, slide, face, sig = friction_cone(p, x[X.s], x[X.face], Fx, Fy, c1, s1)
+    # the tip turning in the notch: its surface slides over the faces at r·|w_arm - w_frame| (the pymunk switch
+    # reads the slip at the contact point): kinetic friction above sim.slip_speed, static below, for the tip's
+    # turning torque and for the cone that holds the hook alike
+    turning = p[P.r_hook] * abs(wa - w1) > p[P.slip_speed]
+    mu = p[P.mu_k] if turning else p[P.mu_s]
+    release, slide, face, sig = friction_cone(p, x[X.s], x[X.face], Fx, Fy, c1, s1,
+                                              p[P.phi_k] if turning else p[P.phi_s])
     if hold:
         release, slide = False, False
-    # the tip turning in the notch: its surface slides over the faces at r·|w_arm - w_frame| (the pymunk switch
-    # reads the slip at the contact point): kinetic friction above sim.slip_speed, static below. The step uses the
-    # torque the last step found; this one is the next step's.
-    mu = p[P.mu_k] if p[P.r_hook] * abs(wa - w1) > p[P.slip_speed] else p[P.mu_s]
+    # the step uses the turning torque the last step found; this one is the next step's
     piv = mu * p[P.r_hook] * normal_sum(p, x, Fx, Fy, c1, s1, mu)
     if release:
         x[X.piv] = piv

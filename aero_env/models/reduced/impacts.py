@@ -68,22 +68,35 @@ def impact(p, x, sw, t1, frame):
     c11, c12, c22 = A * C - E * E, D * E - A * F, A * B - D * D
     u0, u1, u2 = c00, c01, c02  # M^-1·e0 (times det)
     v0, v1, v2 = c01 - c02, c11 - c12, c12 - c22  # M^-1·(0, 1, -1) (times det)
+    # The other coordinate's stop is one-sided too: the impulse is first taken with it free, and only where that
+    # would drive it into its stop is it held there (a frame on its rest stop that the arm's impact throws
+    # forward leaves the stop, as pymunk's frame does)
     if frame:
         lim = p[P.stop] if th1 >= p[P.stop] else p[P.rest]
-        err = th1 - lim
-        k = x[X.lockA] * (u1 - u2) / (v1 - v2)  # with the arm held
-        j0, j1, j2 = u0 - k * v0, u1 - k * v1, u2 - k * v2
-        jx, jv = j0, w1
+        err, jv = th1 - lim, w1
+        j0, j1, j2 = u0, u1, u2  # the arm free
+        other_rate, other_gain, other_lock, other_kind = wa - wt, (u1 - u2) / u0, X.lockA, X.lockAk
         upper = p[P.stop]
     else:
         alpha = pa - pt - math.pi
         lim = p[P.amax] if alpha >= p[P.amax] else p[P.amin]
-        err = alpha - lim
-        k = x[X.lock1] * v0 / u0  # with the frame held
-        j0, j1, j2 = v0 - k * u0, v1 - k * u1, v2 - k * u2
-        jx, jv = j1 - j2, wa - wt
+        err, jv = alpha - lim, wa - wt
+        j0, j1, j2 = v0, v1, v2  # the frame free
+        other_rate, other_gain, other_lock, other_kind = w1, v0 / (v1 - v2), X.lock1, X.lock1k
         upper = p[P.amax]
     into = err * jv > 0.0  # moving further past the stop
+    if into and x[other_lock] > 0.0:
+        after = other_rate - jv * other_gain  # the other coordinate's rate after the free impulse
+        if (x[other_kind] == 2.0 and after > 0.0) or (x[other_kind] == 1.0 and after < 0.0):
+            if frame:  # hold the arm: J = (0, 1, -1)
+                k = (u1 - u2) / (v1 - v2)
+                j0, j1, j2 = u0 - k * v0, u1 - k * v1, u2 - k * v2
+            else:  # hold the frame
+                k = v0 / u0
+                j0, j1, j2 = v0 - k * u0, v1 - k * u1, v2 - k * u2
+        else:  # the impulse takes it off its stop
+            x[other_lock], x[other_kind] = 0.0, 0.0
+    jx = j0 if frame else j1 - j2
     lam = -jv / jx if into else 0.0
     dq0, dq1, dq2 = j0 * lam, j1 * lam, j2 * lam
     Px = -m * Hy * dq0 - Pa * sa * dq1 - Pt * st * dq2
@@ -91,7 +104,7 @@ def impact(p, x, sw, t1, frame):
     # a hook that has slid less than the hook/card clearance from the corner still has the other face under it:
     # the impulse meets the corner's two faces, and a hold sets it back in the corner
     near = s < p[P.clear]
-    release, slide, face, sig = friction_cone(p, 0.0 if near else s, x[X.face], Px, Py, c1, s1)
+    release, slide, face, sig = friction_cone(p, 0.0 if near else s, x[X.face], Px, Py, c1, s1, p[P.phi_s])
     if frame:
         at_rest = lim == p[P.rest]
         go = into and release and not at_rest

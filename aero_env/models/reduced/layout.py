@@ -18,13 +18,15 @@ P = IntEnum("P", [
     # the leaf spring and the arm's stops
     "k", "stiff", "amin", "amax", "alim", "snap", "line_amax",
     # the hook in the notch: friction, tip radius, the faces (directions u, inward normals n), their ends
-    "mu_s", "mu_k", "phi_s", "r_hook", "clear", "p0x", "p0y",
+    "mu_s", "mu_k", "phi_s", "phi_k", "r_hook", "clear", "p0x", "p0y",
     "ubx", "uby", "nbx", "nby", "ufx", "ufy", "nfx", "nfy", "s_end_b", "s_end_f",
-    "beta", "cone_half", "face_off",
+    "beta", "face_off",
     # the frame's stops and the runner's turn-back angle
     "rest", "stop", "held_past", "Lb",
     # the next notch at rest, from its frame's axis: the mouth's ends, the seat, the bisector
     "mbx", "mby", "mfx", "mfy", "seatx", "seaty", "bisx", "bisy",
+    # ... and its faces there (world): the hook centre's lines from the seat, directions and inward normals
+    "rbux", "rbuy", "rbnx", "rbny", "rfux", "rfuy", "rfnx", "rfny",
     # the scene
     "pitch", "rise", "floor_drop", "theta2_start",
     # the runner's limits (sim.*)

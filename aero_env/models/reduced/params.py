@@ -144,7 +144,7 @@ def param_table(raw: Mapping[str, np.ndarray], dt: float) -> np.ndarray:
     hk, _, _, cm = parts.layout(amax)
     c["line_amax"] = np.arctan2(hk[1] - cm[1], hk[0] - cm[0])  # the centre -> hook line in the torso's frame, bent
     c["mu_s"], c["mu_k"] = raw["mu_hold"], raw["mu_slide"]
-    c["phi_s"] = np.arctan(raw["mu_hold"])
+    c["phi_s"], c["phi_k"] = np.arctan(raw["mu_hold"]), np.arctan(raw["mu_slide"])  # the cones' half-angles
     c["r_hook"] = d("hook_radius")
     # the notch (frame-local, as swing_frame.SwingFrame builds it)
     rest, stop = rad(d("rest_angle_deg")), rad(d("stop_angle_deg"))
@@ -168,8 +168,8 @@ def param_table(raw: Mapping[str, np.ndarray], dt: float) -> np.ndarray:
     c["s_end_f"] = d("notch_front_face") - (sc[0] * nb_sf[0] + sc[1] * nb_sf[1])
     c["beta"] = beta
     half = 0.5 * np.pi - o / 2  # each face's normal makes this angle with the bisector
-    c["cone_half"] = half + c["phi_s"]  # the corner's union cone: |angle(F) - beta| <= this
-    c["face_off"] = half  # the back face's normal is at beta - half, the front face's at beta + half
+    c["face_off"] = half  # the back face's normal is at beta - half, the front face's at beta + half;
+    # the corner's union cone: |angle(F) - beta| <= face_off + phi
     # the mouth of a notch at rest (offsets from its frame's axis), its seat, its bisector
     cr, sr = np.cos(rest), np.sin(rest)
     rot = lambda x, y: (cr * x - sr * y, sr * x + cr * y)  # noqa: E731
@@ -183,6 +183,9 @@ def param_table(raw: Mapping[str, np.ndarray], dt: float) -> np.ndarray:
     c["mfx"], c["mfy"] = rot(efx + ext * mx, efy + ext * my)
     c["seatx"], c["seaty"] = rot(-Lb, 0.0 * Lb)
     c["bisx"], c["bisy"] = np.cos(beta + rest), np.sin(beta + rest)
+    for face in "bf":
+        c[f"r{face}ux"], c[f"r{face}uy"] = rot(c[f"u{face}x"], c[f"u{face}y"])
+        c[f"r{face}nx"], c[f"r{face}ny"] = rot(c[f"n{face}x"], c[f"n{face}y"])
     # the scene and the runner's limits
     c["pitch"], c["rise"], c["floor_drop"] = raw["scene.pitch"], raw["scene.rise"], raw["scene.floor_drop"]
     c["theta2_start"] = rad(raw["scene.theta2_start_deg"])
