@@ -114,23 +114,51 @@ NO_CATCH, CAUGHT, GRAZED = 0, 1, 2  # seat_reached's verdicts
 
 
 @njit(cache=True, error_model="numpy")
+def cap_entry(ex, ey, r, dx0, dy0, dx1, dy1):
+    """The fraction of the step at which the path (dx0, dy0) -> (dx1, dy1) first comes within r of (ex, ey),
+    or 2.0 if it does not (a card's rounded end: the hook's centre cannot come closer than the clearance)."""
+    mx, my = dx1 - dx0, dy1 - dy0
+    fx, fy = dx0 - ex, dy0 - ey
+    a, b, c = mx * mx + my * my, 2.0 * (fx * mx + fy * my), fx * fx + fy * fy - r * r
+    if c <= 0.0:
+        return 0.0
+    disc = b * b - 4.0 * a * c
+    if a == 0.0 or disc < 0.0:
+        return 2.0
+    lam = (-b - math.sqrt(disc)) / (2.0 * a)
+    return lam if 0.0 <= lam <= 1.0 else 2.0
+
+
+@njit(cache=True, error_model="numpy")
 def seat_reached(p, dx0, dy0, dx1, dy1, dt):
     """Inside the next notch's mouth, the hook's centre moved from (dx0, dy0) to (dx1, dy1) (from the seat) in dt:
     did it reach the seat? Returns (verdict, fraction of the step, distance from the seat there).
 
-    It meets a face where its centre reaches the face's line (the line its centre cannot cross, from the seat
-    along the face). The impact takes its normal velocity and, by the card's kinetic friction, up to mu_k·|v_n| of
-    its velocity along the face: what is left moving outward along the face takes it back out of the notch (the
-    runner's graze: a touch that never seats); otherwise the faces guide it into the corner (the model then sets
-    it on the seat). Reaching the seat's depth without meeting a face, it lands in the corner."""
-    first, face = 2.0, -1
+    Each face is a card whose surface the hook's centre cannot come within the hook/card clearance of: a flat
+    side (the line from the seat along the face, up to the face's end) and a rounded end. Meeting the flat side,
+    the impact takes the hook's normal velocity and, by the card's kinetic friction, up to mu_k·|v_n| of its
+    velocity along the face: what is left moving outward along the face takes it back out (the runner's graze:
+    a touch that never seats); otherwise the faces guide it into the corner (the model then sets it on the seat).
+    Meeting the rounded end on its top (nearer the face's inward normal than its outward direction) it rests on
+    the card and is guided in; on its far side it slides off the card's end: a graze. Crossing the face's line
+    past its end it has passed the card: a graze. Reaching the seat's depth first, it lands in the corner."""
+    first, face, kind = 2.0, -1, 0  # kind: 0 the flat side, 1 the rounded end, 2 past the end
     for k in range(2):
+        ux, uy = (p[P.rbux], p[P.rbuy]) if k == 0 else (p[P.rfux], p[P.rfuy])
         nx, ny = (p[P.rbnx], p[P.rbny]) if k == 0 else (p[P.rfnx], p[P.rfny])
+        s_end, r = (p[P.s_end_b] if k == 0 else p[P.s_end_f]), p[P.clear]
         d0, d1 = dx0 * nx + dy0 * ny, dx1 * nx + dy1 * ny
+        cap = cap_entry(s_end * ux - r * nx, s_end * uy - r * ny, r, dx0, dy0, dx1, dy1)
         if d1 < 0.0:  # past this face's line by the step's end
             lam = min(max(d0 / (d0 - d1), 0.0), 1.0) if d0 > 0.0 else 0.0
-            if lam < first:
-                first, face = lam, k
+            along = (dx0 + lam * (dx1 - dx0)) * ux + (dy0 + lam * (dy1 - dy0)) * uy
+            if along <= s_end:  # on the flat side
+                if lam < first:
+                    first, face, kind = lam, k, 0
+            elif cap > 1.0 and lam < first:  # past the end, the rounded end untouched: beside the card
+                first, face, kind = lam, k, 2
+        if cap <= 1.0 and cap < first:
+            first, face, kind = cap, k, 1
     b0, b1 = dx0 * p[P.bisx] + dy0 * p[P.bisy], dx1 * p[P.bisx] + dy1 * p[P.bisy]
     if b1 <= 0.0:  # the seat's depth
         lam = min(max(b0 / (b0 - b1 if b0 != b1 else 1.0), 0.0), 1.0)
@@ -138,11 +166,18 @@ def seat_reached(p, dx0, dy0, dx1, dy1, dt):
             first, face = lam, -2
     if face == -1:
         return NO_CATCH, 0.0, 0.0
-    gap = math.hypot(dx0 + first * (dx1 - dx0), dy0 + first * (dy1 - dy0))
+    hx, hy = dx0 + first * (dx1 - dx0), dy0 + first * (dy1 - dy0)
+    gap = math.hypot(hx, hy)
     if face == -2:
         return CAUGHT, first, gap
     ux, uy = (p[P.rbux], p[P.rbuy]) if face == 0 else (p[P.rfux], p[P.rfuy])
     nx, ny = (p[P.rbnx], p[P.rbny]) if face == 0 else (p[P.rfnx], p[P.rfny])
+    if kind == 2:
+        return GRAZED, first, gap
+    if kind == 1:  # where on the rounded end: its normal there, from the end's centre to the hook's
+        s_end = p[P.s_end_b] if face == 0 else p[P.s_end_f]
+        ox, oy = hx - (s_end * ux - p[P.clear] * nx), hy - (s_end * uy - p[P.clear] * ny)
+        return (CAUGHT if ox * nx + oy * ny >= ox * ux + oy * uy else GRAZED), first, gap
     vx, vy = (dx1 - dx0) / dt, (dy1 - dy0) / dt
     if vx * ux + vy * uy > p[P.mu_k] * max(-(vx * nx + vy * ny), 0.0):
         return GRAZED, first, gap
