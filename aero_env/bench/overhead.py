@@ -1,33 +1,66 @@
 """``aero-env bench overhead``: what the Python layer costs over the bare ``space.step`` calls.
 
-One scene (the config's own design), at its fidelity. ``bare`` builds the same world and calls
-``space.step(dt)`` as many times as the run stepped pymunk, and nothing else: no events, no
-checks, no friction switch (the contact callbacks that pymunk itself runs stay). The full run is
-then taken apart by switching its per-step work off one piece at a time:
+One scene (the config's own design), at its fidelity. ``bare`` is pymunk alone stepping through
+the same run: the run is made once and records what its Python layer changed in the space
+between steps (``World.inputs``: the live window's moves and the friction switch's changes, a few
+dozen in all); ``bare`` builds the same world and replays them around plain ``space.step(dt)``
+calls, nothing else per step (the callbacks pymunk itself runs, the contact's begin/separate, stay).
+The replay ends in the run's final state bit for bit (``bare_replays_run``), so pymunk meets the
+same contacts in both and the ratio is the Python layer's alone. The full run is then taken apart
+by switching its per-step work off one piece at a time:
 
 | row                 | what runs                                                           |
 |---------------------|---------------------------------------------------------------------|
-| ``bare``            | ``space.step`` only                                                  |
-| ``loop``            | the runner with one friction coefficient and checks every 1 s        |
+| ``bare``            | ``space.step`` only, through the same run                           |
+| ``loop``            | the runner with one friction coefficient and checks every 1 s (its  |
+|                     | own, slightly different run: kinetic friction throughout)           |
 | ``loop+friction``   | ... plus the static/kinetic switch, once per runner step            |
 | ``full``            | the run as configured (checks every ``sim.check_interval``)          |
 
-Each time is the median of ``repeats`` runs; every ratio is against ``bare`` in the same call.
+The rows are timed in turn within each of ``repeats`` rounds, so a machine that gets busier or
+quieter during the call moves them alike; each time is the median over the rounds and every ratio
+is against ``bare`` in the same call.
 """
 
 from __future__ import annotations
 
+import statistics
+import time
+
 from ..config import Config, ConfigError
 from ..physics import World
+from ..physics.run import simulate as simulate_mbd
 from ..simulation import simulate
-from .designs import check_counts, median_time
+from .designs import check_counts
+
+# The rows beside ``bare`` and ``full``: what each switches off, as config overrides.
+_VARIANTS = {
+    "loop": {"scene.effects.friction": "kinetic", "sim.check_interval": 1.0},
+    "loop+friction": {"sim.check_interval": 1.0},
+}
 
 
-def _bare(cfg: Config, n: int) -> None:
-    world = World(cfg)
-    space, dt = world.space, world.p.dt
-    for _ in range(n):
-        space.step(dt)
+def replay(world: World, inputs: list, steps: int) -> None:
+    """Step a freshly built ``world`` through a run of ``steps`` runner steps with bare ``space.step``
+    calls, applying the run's ``inputs`` (``World.inputs``) where its runner made them."""
+    space_step, dt, substeps = world.space.step, world.p.dt, world.p.substeps
+    done = 0
+    for at, what, value in inputs:
+        for _ in range((at - done) * substeps):
+            space_step(dt)
+        done = at
+        if what == "active":
+            world.set_active(value)
+        else:  # "friction"
+            world.contact.hook_shape.friction = value
+    for _ in range((steps - done) * substeps):
+        space_step(dt)
+
+
+def _timed(fn) -> float:
+    t0 = time.perf_counter()
+    fn()
+    return time.perf_counter() - t0
 
 
 def overhead(cfg: Config, repeats: int = 5) -> dict:
@@ -35,31 +68,35 @@ def overhead(cfg: Config, repeats: int = 5) -> dict:
     if cfg.sim.model != "mbd":
         raise ConfigError(f"sim.fidelity = {cfg.sim.fidelity!r}: the overhead benchmark measures the pymunk world; "
                           f"choose a pymunk fidelity (mbd-fast, mbd, mbd-fine, reference)")
-    full_wall, run = median_time(lambda: simulate(cfg), repeats)
-    n = round(run.sim_time / cfg.sim.dt)  # pymunk steps the run took
-    bare_wall, _ = median_time(lambda: World(cfg), repeats)  # building the world is not stepping it
-    bare_wall = median_time(lambda: _bare(cfg, n), repeats)[0] - bare_wall
-    variants = {
-        "loop": {"scene.effects.friction": "kinetic", "sim.check_interval": 1.0},
-        "loop+friction": {"sim.check_interval": 1.0},
-    }
-    rows = [dict(name="bare", wall=bare_wall)]
-    for name, over in variants.items():
-        c = cfg.replace(over)
-        rows.append(dict(name=name, wall=median_time(lambda: simulate(c), repeats)[0]))
-    rows.append(dict(name="full", wall=full_wall))
-    for r in rows:
-        r["per_pymunk_step_us"] = 1e6 * r["wall"] / n
-        r["ratio_vs_bare"] = r["wall"] / bare_wall
+    recorded = World(cfg)
+    run = simulate_mbd(cfg, world=recorded)
+    inputs, steps = list(recorded.inputs), recorded.steps
+    check = World(cfg)
+    replay(check, inputs, steps)
+    replays = check.energy() == run.energy["final"]  # every live body's state enters the energy
+
+    configs = {"full": cfg, **{name: cfg.replace(over) for name, over in _VARIANTS.items()}}
+    times: dict[str, list[float]] = {"bare": [], **{name: [] for name in configs}}
+    for _ in range(repeats):
+        world = World(cfg)  # building the world is not stepping it
+        times["bare"].append(_timed(lambda: replay(world, inputs, steps)))
+        for name, c in configs.items():
+            times[name].append(_timed(lambda: simulate(c)))
+    wall = {name: statistics.median(ts) for name, ts in times.items()}
+    n = steps * cfg.sim.substeps  # pymunk steps the run took
+    rows = [dict(name=name, wall=wall[name], per_pymunk_step_us=1e6 * wall[name] / n,
+                 ratio_vs_bare=wall[name] / wall["bare"]) for name in ("bare", *_VARIANTS, "full")]
     return dict(fidelity=cfg.sim.fidelity, pymunk_steps=n, sim_time=run.sim_time, outcome=run.outcome,
-                realtime_factor=run.sim_time / full_wall, python_layer_ratio=full_wall / bare_wall,
-                repeats=repeats, rows=rows)
+                realtime_factor=run.sim_time / wall["full"], python_layer_ratio=wall["full"] / wall["bare"],
+                bare_replays_run=replays, replayed_inputs=len(inputs), repeats=repeats, rows=rows)
 
 
 def table(report: dict) -> str:
+    same = "bit for bit" if report["bare_replays_run"] else "NOT reproduced: the ratio compares different runs"
     lines = [f"fidelity {report['fidelity']}: {report['pymunk_steps']} pymunk steps ({report['sim_time']:.3f} s "
              f"simulated, {report['outcome']}), median of {report['repeats']} runs; "
              f"{report['realtime_factor']:.0f}x real time",
+             f"bare replays the run ({report['replayed_inputs']} inputs): {same}",
              f"{'':>14} {'wall ms':>8} {'us/step':>8} {'x bare':>7}"]
     for r in report["rows"]:
         lines.append(f"{r['name']:>14} {1e3 * r['wall']:8.1f} {r['per_pymunk_step_us']:8.2f} {r['ratio_vs_bare']:7.2f}")

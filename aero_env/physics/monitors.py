@@ -77,6 +77,7 @@ class Recorder:
     def __init__(self, world: World, trace: bool, trace_every: int, pose_steps: int):
         self.world = world
         self.trace, self.trace_every, self.pose_steps = trace, trace_every, pose_steps
+        self.recording = bool(trace or pose_steps)  # False: after_step would do nothing, the runner skips it
         self.rows: list[tuple] = []
         self.poses: list = [(0.0, *world.pose())] if pose_steps else []
 

@@ -33,6 +33,9 @@ class Run:
         self.world, self.sim, self.p = world, sim, world.p
         self.frames, self.robot = world.frames, world.robot
         self.touches = world.contact.touches
+        # frame index -> touching faces, kept current by the contact's callbacks: the per-step test
+        # of the phases is one lookup in it
+        self.touching = world.contact.touching
         self.holding_note = world.contact.holding_note
         p = self.p
         self.snapped_alpha = p.alpha_min + 0.5 * (p.alpha_max - p.alpha_min)  # the arm swung half its range
@@ -56,13 +59,14 @@ class Hanging:
 
     def __init__(self, run: Run, frame, t: float):
         self.run, self.frame = run, frame
+        self.index, self.touching = frame.index, run.touching
         self.t_touch = t  # the last runner step at which the hook touched the frame
         self.peak = frame.theta
         self.t_stop: float | None = None
         self.swing = run.swings[-1]
 
     def step(self, t: float):
-        if self.run.touches(self.frame.index):
+        if self.index in self.touching:
             self.t_touch = t
             return self
         return LettingGo(self).step(t)

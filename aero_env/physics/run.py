@@ -39,9 +39,11 @@ from .world import World
 __all__ = ["simulate", "SimResult", "Swing", "TRACE_COLUMNS"]
 
 
-def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None) -> SimResult:
+def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None,
+             world: World | None = None) -> SimResult:
     """Simulate ``cfg`` in the pymunk world until the robot completes the row or fails.
-    Deterministic for a config.
+    Deterministic for a config. ``world``: a fresh ``World(cfg)`` the caller keeps, to read after the
+    run (``bench overhead`` replays its ``inputs``).
 
     Per runner step the loop does only what must be per step: the current phase's contact
     bookkeeping. The phase's own limits (the frame's peak and stop, the floor, time limits),
@@ -50,7 +52,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
     and on every step of a catch.
     """
     wall0 = time.perf_counter()
-    world = World(cfg)
+    world = World(cfg) if world is None else world
     sim = cfg.sim
     run = Run(world, sim)
     frames, robot = world.frames, world.robot
@@ -67,8 +69,9 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
     closest = math.inf  # engine units: hook to the next seat since the last catch, on the check cadence
     origin, seat = 0, run.next_seat(0)
 
+    world_step, recording = world.step, recorder.recording
     for n in range(1, int(math.ceil(sim.t_max / step_s)) + 1):
-        world.step()
+        world_step()
         t = world.t
         phase = phase.step(t)
         if run.ending:
@@ -89,7 +92,8 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
                 break
             closest = min(closest, math.hypot(sample.hook[0] - seat.x, sample.hook[1] - seat.y))
             phase.observe(sample)
-        recorder.after_step(n, t, sample)
+        if recording:
+            recorder.after_step(n, t, sample)
 
     recorder.finish()
     return _result(cfg, world, run, monitors, recorder, ending, closest, wall0, bool(poses_every))

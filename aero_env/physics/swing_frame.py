@@ -67,8 +67,9 @@ class SwingFrame:
         self.faces_local = ((corner, corner + n_front * p.notch_back_face),
                             (corner, corner + n_back * p.notch_front_face))
         self.rail_radius = p.rail_radius
-        # each face as (start, unit direction, length), for the penetration monitor
-        self._faces = tuple((a.x, a.y, *((b - a) / (b - a).length), (b - a).length) for a, b in self.faces_local)
+        # each face as (start x, start y, unit direction x, y, length), for the penetration monitor and
+        # the friction switch
+        self.faces = tuple((a.x, a.y, *((b - a) / (b - a).length), (b - a).length) for a, b in self.faces_local)
         self.shapes = []
         for a, b in self.faces_local:
             seg = pymunk.Segment(body, a, b, p.rail_radius)
@@ -117,30 +118,6 @@ class SwingFrame:
         x, y, a = state[0], state[1], state[2]
         return math.hypot(x - self.axis.x, y - self.axis.y), max(0.0, a - self.stop_angle, self.rest_angle - a)
 
-    def contacts(self, centre: pymunk.Vec2d, radius: float, band: float):
-        """(world contact point, world unit tangent) of each face a circle at ``centre`` touches:
-        its surface within ``band`` of the card's. Falls back to the nearest face, since the
-        contact callbacks already say the circle touches this frame."""
-        body = self.body
-        local = body.world_to_local(centre)
-        found, nearest = [], None
-        for (ax, ay, ux, uy, length) in self._faces:
-            along = min(max((local.x - ax) * ux + (local.y - ay) * uy, 0.0), length)
-            qx, qy = ax + along * ux, ay + along * uy  # nearest point of the face's centre line
-            gap = math.hypot(local.x - qx, local.y - qy)
-            item = (gap, qx, qy, ux, uy)
-            if nearest is None or gap < nearest[0]:
-                nearest = item
-            if gap <= radius + self.rail_radius + band:
-                found.append(item)
-        out = []
-        for gap, qx, qy, ux, uy in found or [nearest]:
-            # the contact point lies on the card's surface, between the face line and the circle's centre
-            f = self.rail_radius / gap if gap > 0.0 else 0.0
-            point = pymunk.Vec2d(qx + (local.x - qx) * f, qy + (local.y - qy) * f)
-            out.append((body.local_to_world(point), pymunk.Vec2d(ux, uy).rotated(body.angle)))
-        return out
-
     def penetration(self, state: tuple, point: tuple[float, float], radius: float) -> float:
         """How deep a circle at world ``point`` sits inside this frame's handrail card (0 when
         outside), from the frame's read state; pure geometry in the frame's own coordinates."""
@@ -149,7 +126,7 @@ class SwingFrame:
         dx, dy = point[0] - x, point[1] - y
         px, py = c * dx + s * dy, -s * dx + c * dy  # the point in frame-local coordinates
         depth = 0.0
-        for (ax, ay, ux, uy, length) in self._faces:
+        for (ax, ay, ux, uy, length) in self.faces:
             along = min(max((px - ax) * ux + (py - ay) * uy, 0.0), length)
             depth = max(depth, radius + self.rail_radius - math.hypot(px - ax - along * ux, py - ay - along * uy))
         return depth

@@ -34,8 +34,9 @@ from .swing_frame import FLOOR, SwingFrame
 def read_state(b: pymunk.Body) -> tuple[float, float, float, float, float, float]:
     """(x, y, angle, vx, vy, omega): the body's origin, its angle, its centre of gravity's velocity
     and its angular velocity, each read from pymunk once."""
-    p, v = b.position, b.velocity
-    return p.x, p.y, b.angle, v.x, v.y, b.angular_velocity
+    x, y = b.position
+    vx, vy = b.velocity
+    return x, y, b.angle, vx, vy, b.angular_velocity
 
 
 class Sample(NamedTuple):
@@ -79,7 +80,8 @@ class World:
         self.drag = AirDrag(self.frames, self.robot, p) if fx.drag else None
         # Parts that act once per runner step, before it (only those the scene switched on).
         self._before_step = tuple(f for f in (self.contact.before_step,) if f is not None)
-        self._substeps = p.substeps
+        self._dt, self._step_s = p.dt, p.step
+        self._substep_range = range(p.substeps)
         self.live_ahead = fx.live_frames
         # The floor follows the row's incline, floor_drop below the frame axes.
         x0, x1 = -2.0 * p.pitch, (p.frames + 1) * p.pitch
@@ -92,21 +94,34 @@ class World:
         # Mass, moment and centre of gravity never change: read them from pymunk once.
         self._mass_props = {b: (b.mass, b.moment, b.center_of_gravity.x, b.center_of_gravity.y)
                             for b in (*(f.body for f in self.frames), *self.robot.bodies)}
+        self.t = 0.0
+        self.steps = 0
+        # What the Python layer changed in the space between steps, in order: (runner steps taken, what,
+        # value), "active" (the live window moved to a frame) or "friction" (the hook's coefficient).
+        # Rare (a few dozen per run); replaying them around bare space.step calls reproduces the run
+        # bit for bit, which is what `aero-env bench overhead` measures the Python layer against.
+        self.inputs: list[tuple[int, str, float]] = []
+        self.contact.log_to(self._note_input)
         self.active = -1
         self._live: list[SwingFrame] = []  # every frame starts parked, at rest
         self._parked_energy = sum(self._body_energy(f.body) for f in self.frames)
-        self.set_active(0)
+        self._move_window(0)
         self.robot.place_hanging(self.frames[0].hook_seat_world(), p.theta2_start, p.alpha_max)
         self.contact.add_to(space)  # after placing: a pin joint anchors where the bodies are
-        self.t = 0.0
-        self.steps = 0
 
     # -- live window --
     def _body_energy(self, b: pymunk.Body) -> float:
         return self._energy_of(b, read_state(b))
 
+    def _note_input(self, what: str, value: float) -> None:
+        self.inputs.append((self.steps, what, value))
+
     def set_active(self, i: int) -> None:
         """Make frame i the robot's frame: keep i-1 (still turning), i and live_ahead frames ahead."""
+        self._note_input("active", i)
+        self._move_window(i)
+
+    def _move_window(self, i: int) -> None:
         self.active = i
         lo, hi = max(0, i - 1), min(len(self.frames) - 1, i + self.live_ahead)
         # Frames out of the space do not move: their energy is booked once as they park or leave the
@@ -130,11 +145,11 @@ class World:
         """One runner step: the per-step parts, then ``sim.substeps`` pymunk steps of ``sim.dt``."""
         for part in self._before_step:
             part()
-        space, dt = self.space, self.p.dt
-        for _ in range(self._substeps):
-            space.step(dt)
+        space_step, dt = self.space.step, self._dt
+        for _ in self._substep_range:
+            space_step(dt)
         self.steps += 1
-        self.t = self.steps * self.p.step  # no accumulated round-off in the clock
+        self.t = self.steps * self._step_s  # no accumulated round-off in the clock
 
     # -- measurements (engine units inside, SI where it says so) --
     def floor_y(self, x: float) -> float:
@@ -148,25 +163,41 @@ class World:
         Frames outside the space are at rest (ahead) or at their stop (behind): their potential
         energy is constant and still counted, so the total is comparable across window moves.
         """
-        energy_of = self._energy_of
+        # Each body's energy is _energy_of's, written out in the loops (same operations, same order).
+        g, mass_props, sin, cos = self.p.gravity, self._mass_props, math.sin, math.cos
         e = self._parked_energy
-        v2max, drift, over = 0.0, 0.0, 0.0
+        v2max = drift = over = 0.0
         frame_states = {}
         for f in self._live:
-            st = frame_states[f.index] = read_state(f.body)
-            e += energy_of(f.body, st)
-            v2max = max(v2max, st[3] * st[3] + st[4] * st[4])
+            b = f.body
+            st = frame_states[f.index] = read_state(b)
+            x, y, a, vx, vy, w = st
+            mass, moment, cgx, cgy = mass_props[b]
+            v2 = vx * vx + vy * vy
+            e += 0.5 * (mass * v2 + moment * w * w) + mass * g * (y + cgx * sin(a) + cgy * cos(a))
+            if v2 > v2max:  # max(v2max, v2), as every max below: the first of equals is kept
+                v2max = v2
             d, o = f.health(st)
-            drift, over = max(drift, d), max(over, o)
+            if d > drift:
+                drift = d
+            if o > over:
+                over = o
         robot = self.robot
         states = [read_state(b) for b in robot.bodies]
         for b, st in zip(robot.bodies, states):
-            e += energy_of(b, st)
-            v2max = max(v2max, st[3] * st[3] + st[4] * st[4])
+            x, y, a, vx, vy, w = st
+            mass, moment, cgx, cgy = mass_props[b]
+            v2 = vx * vx + vy * vy
+            e += 0.5 * (mass * v2 + moment * w * w) + mass * g * (y + cgx * sin(a) + cgy * cos(a))
+            if v2 > v2max:
+                v2max = v2
         m = robot.measure(states)
         e += self.spring.energy_for(m.alpha)
-        drift = max(drift, m.drift, self.contact.joint_drift())
-        over = max(over, m.overshoot)
+        for d in (m.drift, self.contact.joint_drift()):
+            if d > drift:
+                drift = d
+        if m.overshoot > over:
+            over = m.overshoot
         # Any overlap of hook and card is a contact, so only the frames the hook touches can hold it.
         touching = self.contact.touching
         pen = self.contact.penetration([(self.frames[i], frame_states[i]) for i in touching if i in frame_states],

@@ -1,0 +1,95 @@
+"""The Python layer around pymunk: the friction switch's one-read slip against pymunk's own point
+calls, the run's inputs that let bare ``space.step`` calls replay it, and ``bench overhead``."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from aero_env.bench.designs import draw_designs
+from aero_env.bench.overhead import replay
+from aero_env.cli import main as cli_main
+from aero_env.physics import World
+from aero_env.physics.run import simulate
+
+from .conftest import PAPER
+
+
+def pymunk_slip(law) -> float:
+    """The slip asked of pymunk point by point (the switch's reading before it read each body once):
+    the fastest sliding of the tip's contact point over any face of the touched frame it touches."""
+    body, _cog, faces, rail_radius, _reach = law.frame_parts[next(iter(law.touching))]
+    centre = law.arm.local_to_world(law.tip_local)
+    local = body.world_to_local(centre)
+    found, nearest = [], None
+    for ax, ay, ux, uy, length in faces:
+        along = min(max((local.x - ax) * ux + (local.y - ay) * uy, 0.0), length)
+        qx, qy = ax + along * ux, ay + along * uy
+        gap = math.hypot(local.x - qx, local.y - qy)
+        item = (gap, qx, qy, ux, uy)
+        if nearest is None or gap < nearest[0]:
+            nearest = item
+        if gap <= law.hook.radius + rail_radius + law.contact_band:
+            found.append(item)
+    fastest = 0.0
+    for gap, qx, qy, ux, uy in found or [nearest]:
+        f = rail_radius / gap if gap > 0.0 else 0.0
+        point = body.local_to_world((qx + (local.x - qx) * f, qy + (local.y - qy) * f))
+        tangent = (ux * math.cos(body.angle) - uy * math.sin(body.angle),
+                   ux * math.sin(body.angle) + uy * math.cos(body.angle))
+        v = law.arm.velocity_at_world_point(point) - body.velocity_at_world_point(point)
+        fastest = max(fastest, abs(v.dot(tangent)))
+    return fastest
+
+
+@pytest.mark.parametrize("fidelity", ["mbd", "mbd-fast"])
+def test_the_switch_reads_the_slip_pymunk_would_give_bit_for_bit(paper_cfg, fidelity):
+    # At every step of the row with the hook on a handrail, the switch's slip is pymunk's to the last
+    # bit: with the threshold at pymunk's slip it does not slide, one ulp below it it does.
+    cfg = paper_cfg.replace({"sim.fidelity": fidelity, "scene.frames": 3})
+    world = World(cfg)
+    law = world.contact.law
+    threshold, checked = law.slip_speed, 0
+    while world.t < 1.6 and world.active < 2:
+        if law.touching:
+            slip = pymunk_slip(law)
+            law.slip_speed = slip
+            assert not law.slides(), world.steps
+            if slip > 0.0:
+                law.slip_speed = math.nextafter(slip, 0.0)
+                assert law.slides(), world.steps
+            law.slip_speed = threshold
+            checked += 1
+        world.step()
+        if world.active == 0 and world.contact.touches(1):
+            world.set_active(1)  # a bare world's live window stays put: move it as the runner would
+    assert checked > 0.8 / cfg.sim.dt  # most of two swings
+
+
+def test_bare_steps_with_the_runs_inputs_end_where_the_run_ends(paper_cfg):
+    # bench overhead's baseline: pymunk alone, given the run's window moves and friction changes,
+    # ends in the run's final state bit for bit (the energy reads every live body)
+    cfgs = [paper_cfg.replace({"scene.frames": 3}), paper_cfg.replace({"scene.frames": 3, "sim.fidelity": "mbd-fine"}),
+            paper_cfg.replace({"scene.frames": 2, "scene.effects.drag": True}),
+            *draw_designs(paper_cfg.replace({"scene.frames": 3}), 4, seed=3).configs]
+    for cfg in cfgs:
+        world = World(cfg)
+        run = simulate(cfg, world=world)
+        kinds = {what for _, what, _ in world.inputs}
+        assert kinds <= {"active", "friction"} and world.steps * cfg.sim.dt * cfg.sim.substeps == pytest.approx(
+            run.sim_time)
+        bare = World(cfg)
+        replay(bare, world.inputs, world.steps)
+        assert bare.energy() == run.energy["final"], run.outcome
+
+
+def test_bench_overhead_reports_the_python_layer_against_a_replayed_bare_run(capsys):
+    assert cli_main(["bench", "overhead", str(PAPER), "--set", "scene.frames=2", "--repeats", "1", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["bare_replays_run"] is True and report["replayed_inputs"] > 0
+    assert [r["name"] for r in report["rows"]] == ["bare", "loop", "loop+friction", "full"]
+    assert report["python_layer_ratio"] == report["rows"][-1]["ratio_vs_bare"] > 0.0
+    assert report["pymunk_steps"] == round(report["sim_time"] / 0.0005)
+    assert cli_main(["bench", "overhead", str(PAPER), "--set", "sim.fidelity=reduced", "--repeats", "1"]) == 2
