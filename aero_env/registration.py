@@ -5,6 +5,9 @@ from __future__ import annotations
 import gymnasium as gym
 
 ENTRY_POINT = "aero_env.envs.aerial_acrobat:AerialAcrobatEnv"
+# gym.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point", **overrides): N designs per step in one
+# call (aero_env/envs/aerial_acrobat_vector.py). make_vec with no vectorization_mode picks it too.
+VECTOR_ENTRY_POINT = "aero_env.envs.aerial_acrobat_vector:AerialAcrobatVectorEnv"
 
 ENVIRONMENTS: dict[str, dict] = {
     # The prototype's scene: Table 1 masses and lengths on the 8-frame row of configs/paper.yaml.
@@ -24,4 +27,5 @@ ENVIRONMENTS: dict[str, dict] = {
 def register_environments() -> None:
     for env_id, kwargs in ENVIRONMENTS.items():
         if env_id not in gym.registry:
-            gym.register(id=env_id, entry_point=ENTRY_POINT, kwargs=dict(kwargs))
+            gym.register(id=env_id, entry_point=ENTRY_POINT, vector_entry_point=VECTOR_ENTRY_POINT,
+                         kwargs=dict(kwargs))

@@ -253,15 +253,25 @@ def test_bench_effects_counts_the_outcomes_each_effect_changes(capsys):
             assert changed, "seed no longer draws a design the skewer's friction decides: pick another BENCH_SEED"
 
 
-def test_bench_throughput_runs_the_same_designs_with_one_and_two_workers(capsys):
-    assert cli_main(["bench", "throughput", str(PAPER), "--set", "scene.frames=2", "--episodes", "4",
+def test_bench_throughput_times_every_fidelity_the_vector_env_and_two_workers(capsys):
+    assert cli_main(["bench", "throughput", str(PAPER), "--set", "scene.frames=2", "--episodes", "4", "--batch", "4",
                      "--seed", str(BENCH_SEED), "--repeats", "1", "--json"]) == 0
     rep = json.loads(capsys.readouterr().out)
+    rows = {(r["name"], r["how"].split(",")[0]): r for r in rep["fidelities"]}
+    single = [(name, "single env") for name in FIDELITY_PRESETS]
+    assert list(rows) == [("reduced", "vector env"), *single, ("mbd", "vector env")]  # every rung, and both batches
+    assert all(r["designs"] == 4 and r["designs_per_s"] > 0 and r["first_call_s"] > 0 for r in rows.values())
+    assert rows["mbd", "single env"]["vs_mbd"] == 1.0
+    for name in ("reduced", "mbd"):  # ratios against the single env measured in the same run
+        batched, alone = rows[name, "vector env"], rows[name, "single env"]
+        assert batched["vs_single"] == pytest.approx(batched["designs_per_s"] / alone["designs_per_s"])
+        assert batched["mean_reward"] == alone["mean_reward"]  # the same designs, scored alike
     assert [r["workers"] for r in rep["workers"]] == [1, 2]
     assert all(r["episodes"] == 4 for r in rep["workers"])
-    # both worker counts ran the seeded designs and scored them as env.step does
+    # every way of stepping ran the seeded designs and scored them as env.step does
     mine = [i["traversals"] for i in _env_runs({"scene.frames": 2}, 4)]
     assert rep["workers"][0]["mean_reward"] == rep["workers"][1]["mean_reward"] == pytest.approx(np.mean(mine))
+    assert rows["mbd", "single env"]["mean_reward"] == pytest.approx(np.mean(mine))
     assert 0 < np.mean(mine) < 1, mine  # a mean that tells designs apart (the third design traverses)
 
 
@@ -269,6 +279,8 @@ def test_bench_throughput_runs_the_same_designs_with_one_and_two_workers(capsys)
     (["bench", "accuracy", str(PAPER), "--designs", "0"], "--designs 0"),
     (["bench", "accuracy", str(PAPER), "--fidelities", "mbd,exact"], "'exact' is not a fidelity"),
     (["bench", "throughput", "--episodes", "-1"], "--episodes -1"),
+    (["bench", "throughput", "--batch", "0"], "--batch 0"),
+    (["bench", "throughput", "--pool-workers", "0"], "--pool-workers 0"),
 ])
 def test_bench_options_name_the_bad_value(argv, needle, capsys):
     assert cli_main(argv) == 2

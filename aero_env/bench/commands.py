@@ -42,11 +42,16 @@ def register(sub, scene_command) -> None:
     op.add_argument("--repeats", type=int, default=5, help="runs of each piece; the median time is kept")
     op.set_defaults(func=cmd_overhead)
 
-    tp = bsub.add_parser("throughput", help="environment episodes per second with 1 and 2 vector workers")
+    tp = bsub.add_parser("throughput", help="designs per second at every fidelity, batched and one at a time, and "
+                                            "with 1 and 2 vector workers")
     tp.add_argument("config", nargs="?", default=None, help="scene YAML (absent: the prototype's defaults)")
     tp.add_argument("--set", action="append", metavar="KEY=VALUE",
                     help="override a config value (repeatable); a number may carry its unit, e.g. design.m2=7.71g")
-    tp.add_argument("--episodes", type=int, default=40, help="episodes per measurement")
+    tp.add_argument("--episodes", type=int, default=40,
+                    help="designs per measurement, one at a time and through the process pool")
+    tp.add_argument("--batch", type=int, default=1000, help="designs in the reduced vector env's one call")
+    tp.add_argument("--pool-workers", type=int, default=None,
+                    help="processes of the vector env's pool at a pymunk fidelity (absent: one per core)")
     tp.add_argument("--repeats", type=int, default=3, help="measurements; the median is kept")
     tp.add_argument("--seed", type=int, default=0, help="first episode seed")
     tp.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
@@ -111,7 +116,8 @@ def cmd_effects(args) -> int:
 def cmd_throughput(args) -> int:
     from .throughput import table, throughput
 
-    report = throughput(load_scene(args), episodes=args.episodes, repeats=args.repeats, seed=args.seed)
+    report = throughput(load_scene(args), episodes=args.episodes, repeats=args.repeats, seed=args.seed,
+                        batch=args.batch, pool_workers=args.pool_workers)
     return _emit(args, report, table)
 
 

@@ -1,11 +1,21 @@
-"""``aero-env bench throughput``: environment episodes per second, with 1 and 2 vector workers.
+"""``aero-env bench throughput``: designs per second at every fidelity rung, batched and one at a time.
 
-One step of the design environment is one whole episode (a design run along the row). The
-benchmark steps ``gymnasium.vector`` environments with the same seeded random actions:
-``SyncVectorEnv`` with one environment, and ``AsyncVectorEnv`` with one process per extra
-worker (``autoreset_mode=SAME_STEP``, so every step is a fresh episode), on the same designs
-for every worker count. It reports the
-median episodes per second over ``repeats`` and the speed-up of each worker count over one.
+One step of the design environment is one whole episode (a design run along the row). Every row
+runs the same seeded random designs (random designs differ 10x in cost), each episode a reset with
+seed ``seed + i`` and one step, and reports the median over ``repeats`` of its wall time:
+
+* ``fidelities``: every rung of the ladder through one single env, one design at a time; at
+  ``reduced`` also the vector env (``vectorization_mode="vector_entry_point"``), ``batch`` designs
+  in one step (one call of the reduced model); at the config's pymunk fidelity (``mbd`` when the
+  config is at ``reduced``) also the vector env with its process pool over the cores (``pool_workers``
+  processes). ``vs_single``: a vector row's designs/s over the single env's at its fidelity;
+  ``vs_mbd``: any row's designs/s over the single env's at ``mbd``, both measured in this run.
+  ``first_call_s``: a row's first call, made untimed before its timed ones (at ``reduced`` it loads or
+  compiles the model; for the pool it starts the workers): never inside a timed figure.
+* ``workers``: ``gymnasium.vector`` environments over the single env at the config's fidelity:
+  ``SyncVectorEnv`` with one environment, and ``AsyncVectorEnv`` with one process per extra worker
+  (``autoreset_mode=SAME_STEP``, so every step is a fresh episode), and the speed-up over one.
+
 Workers share the machine's cores: on two cores two workers can at best double the rate.
 """
 
@@ -13,13 +23,86 @@ from __future__ import annotations
 
 import functools
 import math
+import time
 
 import gymnasium as gym
 import numpy as np
 
-from ..config import Config
-from ..envs import AerialAcrobatEnv
+from ..config import FIDELITY_PRESETS, Config
+from ..envs import AerialAcrobatEnv, AerialAcrobatVectorEnv
 from .designs import check_counts, median_time
+
+BASELINE = "mbd"  # vs_mbd: the default fidelity, the one a user of the env gets
+REDUCED = "reduced"
+
+
+def _fidelity(cfg: Config, name: str) -> Config:
+    return cfg.replace({"sim.fidelity": name})
+
+
+def _timed_first(fn) -> float:
+    t0 = time.perf_counter()
+    fn()
+    return time.perf_counter() - t0
+
+
+def _single_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int) -> dict:
+    """One single env, one design at a time: reset(seed + i), step(action i)."""
+    env = AerialAcrobatEnv(cfg)
+
+    def run():
+        rewards = []
+        for i, a in enumerate(actions):
+            env.reset(seed=seed + i)
+            rewards.append(env.step(a)[1])
+        return rewards
+
+    first = _timed_first(lambda: (env.reset(seed=seed), env.step(actions[0])))
+    wall, rewards = median_time(run, repeats)
+    env.close()
+    return dict(name=cfg.sim.fidelity, how="single env", designs=len(actions), wall_s=wall,
+                designs_per_s=len(actions) / wall, first_call_s=first, mean_reward=float(np.mean(rewards)))
+
+
+def _vector_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int, workers: int | None) -> dict:
+    """The vector env, all designs in one step: reset(seed) gives sub-env i seed + i, as the single rows."""
+    envs = AerialAcrobatVectorEnv(len(actions), cfg, workers=workers)
+    try:
+        def run():
+            envs.reset(seed=seed)
+            return envs.step(actions)[1]
+
+        first = _timed_first(run)
+        wall, rewards = median_time(run, repeats)
+    finally:
+        envs.close()
+    how = "vector env, one call" if envs.reduced else f"vector env, pool of {min(envs.workers, len(actions))}"
+    return dict(name=cfg.sim.fidelity, how=how, designs=len(actions), wall_s=wall, designs_per_s=len(actions) / wall,
+                first_call_s=first, mean_reward=float(np.mean(rewards)))
+
+
+def _ratios(rows: list[dict]) -> None:
+    single = {r["name"]: r["designs_per_s"] for r in rows if r["how"] == "single env"}
+    for r in rows:
+        base = single.get(BASELINE)
+        r["vs_mbd"] = r["designs_per_s"] / base if base else None
+        if r["how"] != "single env":
+            r["vs_single"] = r["designs_per_s"] / single[r["name"]]
+
+
+def fidelity_rows(cfg: Config, designs: np.ndarray, episodes: int, batch: int, repeats: int, seed: int,
+                  pool_workers: int | None) -> list[dict]:
+    """Every rung through the single env (the first ``episodes`` designs), the reduced vector env (``batch``
+    designs in one call) and the pymunk vector env with its pool (``episodes`` designs)."""
+    rows = []
+    # reduced first, its batch before its single env: the first call of the model (load, compile) is the batch's
+    rows.append(_vector_row(_fidelity(cfg, REDUCED), designs[:batch], repeats, seed, None))
+    for name in FIDELITY_PRESETS:
+        rows.append(_single_row(_fidelity(cfg, name), designs[:episodes], repeats, seed))
+    pool_fidelity = cfg.sim.fidelity if cfg.sim.model != REDUCED else BASELINE
+    rows.append(_vector_row(_fidelity(cfg, pool_fidelity), designs[:episodes], repeats, seed, pool_workers))
+    _ratios(rows)
+    return rows
 
 
 def _vector_env(cfg: Config, workers: int):
@@ -30,18 +113,16 @@ def _vector_env(cfg: Config, workers: int):
     return gym.vector.AsyncVectorEnv(fns, autoreset_mode=mode, context="spawn")
 
 
-def throughput(cfg: Config, episodes: int = 40, repeats: int = 3, seed: int = 0, workers=(1, 2)) -> dict:
-    check_counts(episodes=episodes, repeats=repeats)
+def worker_rows(cfg: Config, designs: np.ndarray, episodes: int, repeats: int, seed: int, workers) -> list[dict]:
     rows = []
-    dim = len(cfg.tunable)
-    designs = np.random.default_rng(seed).uniform(-1, 1, (episodes, dim)).astype(np.float32)
+    dim = designs.shape[1]
     for w in workers:
         envs = _vector_env(cfg, w)
         try:
             envs.reset(seed=seed)
             steps = math.ceil(episodes / w)
-            # every worker count runs the same designs (random designs differ 10x in cost)
-            actions = np.resize(designs, (steps * w, dim)).reshape(steps, w, dim)
+            # every worker count runs the same designs
+            actions = np.resize(designs[:episodes], (steps * w, dim)).reshape(steps, w, dim)
 
             def run():
                 rewards = []
@@ -58,12 +139,34 @@ def throughput(cfg: Config, episodes: int = 40, repeats: int = 3, seed: int = 0,
     base = rows[0]["episodes_per_second"]
     for r in rows:
         r["speedup_vs_1"] = r["episodes_per_second"] / base
-    return dict(fidelity=cfg.sim.fidelity, repeats=repeats, seed=seed, workers=rows)
+    return rows
+
+
+def throughput(cfg: Config, episodes: int = 40, repeats: int = 3, seed: int = 0, workers=(1, 2), batch: int = 1000,
+               pool_workers: int | None = None) -> dict:
+    check_counts(episodes=episodes, repeats=repeats, batch=batch)
+    if pool_workers is not None:
+        check_counts(pool_workers=pool_workers)
+    designs = np.random.default_rng(seed).uniform(-1, 1, (max(episodes, batch), len(cfg.tunable))).astype(np.float32)
+    return dict(fidelity=cfg.sim.fidelity, repeats=repeats, seed=seed, episodes=episodes, batch=batch,
+                fidelities=fidelity_rows(cfg, designs, episodes, batch, repeats, seed, pool_workers),
+                workers=worker_rows(cfg, designs, episodes, repeats, seed, workers))
+
+
+def _ratio(x) -> str:
+    return "-" if x is None else f"{x:.2f}x"
 
 
 def table(report: dict) -> str:
-    lines = [f"fidelity {report['fidelity']}, median of {report['repeats']} runs",
-             f"{'workers':>7} {'episodes':>8} {'wall s':>8} {'episodes/s':>10} {'speed-up':>8}"]
+    lines = [f"median of {report['repeats']} runs; the same random designs in every row (seed {report['seed']})",
+             f"{'fidelity':>9} {'how':<24} {'designs':>7} {'designs/s':>10} {'vs single':>9} {'vs mbd':>9} "
+             f"{'first call s':>12} {'mean reward':>11}"]
+    for r in report["fidelities"]:
+        lines.append(f"{r['name']:>9} {r['how']:<24} {r['designs']:>7} {r['designs_per_s']:10.1f} "
+                     f"{_ratio(r.get('vs_single')):>9} {_ratio(r['vs_mbd']):>9} {r['first_call_s']:12.3f} "
+                     f"{r['mean_reward']:11.3f}")
+    lines += ["", f"gymnasium.vector over the single env at fidelity {report['fidelity']}",
+              f"{'workers':>7} {'episodes':>8} {'wall s':>8} {'episodes/s':>10} {'speed-up':>8}"]
     for r in report["workers"]:
         lines.append(f"{r['workers']:>7} {r['episodes']:>8} {r['wall']:8.2f} {r['episodes_per_second']:10.1f} "
                      f"{r['speedup_vs_1']:7.2f}x")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
@@ -16,7 +17,43 @@ from ..reward import reward  # the one reward function: the tuner's screen score
 from ..simulation import simulate
 from ..render import ANIMATION_FPS, Canvas, draw_frames, draw_summary, iter_frames, pose_interval
 
-__all__ = ["AerialAcrobatEnv"]
+__all__ = ["AerialAcrobatEnv", "Episode", "chosen_design", "plan_episode", "episode_info", "reset_info"]
+
+
+# ---- the pieces of an episode, shared with the vector env (aerial_acrobat_vector.py) so the two cannot drift ----
+@dataclass(frozen=True)
+class Episode:
+    """What one step simulates: the episode's config, the design the action chose and the fields as built."""
+
+    config: Config
+    design: dict  # the tunable (and linked) values, SI
+    as_built: dict  # the fields the tolerances changed, as simulated, SI
+
+
+def chosen_design(space: DesignSpace, action, clip: bool) -> dict[str, float]:
+    """The tunable (and linked) values, SI, that ``action`` chooses; a bad action raises ConfigError naming its
+    dimension (``clip``: an out-of-box finite action is clipped instead, ``env.action_out_of_box: clip``)."""
+    return space.values(space.check_action(action, clip))
+
+
+def plan_episode(space: DesignSpace, draw: Draw, action, clip: bool) -> Episode:
+    """The episode ``action`` asks for in the scene of ``draw``."""
+    design = chosen_design(space, action, clip)
+    cfg, built = space.episode_config(design, draw)
+    return Episode(cfg, design, built)
+
+
+def reset_info(draw: Draw) -> dict:
+    """What ``reset`` returns as info: the drawn context, SI."""
+    return {"context": dict(draw.context)}
+
+
+def episode_info(run: dict, episode: Episode, draw: Draw) -> dict:
+    """A step's info from its run's ``to_json_dict()`` (or the fields of it that a batch has): the run less
+    ``wall_time`` (the only field that is not a function of config and seed), plus design, context, as built."""
+    info = {k: v for k, v in run.items() if k != "wall_time"}
+    info.update(design=episode.design, context=dict(draw.context), as_built=episode.as_built)
+    return info
 
 
 class AerialAcrobatEnv(gym.Env):
@@ -94,6 +131,9 @@ class AerialAcrobatEnv(gym.Env):
     (the tunable and linked values chosen, SI), ``context`` (SI) and ``as_built`` (the fields the
     tolerances changed, as simulated, SI).
 
+    ``gym.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point")`` steps N designs in one call
+    (:class:`aero_env.envs.AerialAcrobatVectorEnv`, SAME_STEP autoreset), equal to N of these envs.
+
     ``env.unwrapped.last_run`` is the last step's :class:`aero_env.results.SimResult` (None after
     a reset): its ``swings`` (per-frame catch, detach and flight), and with
     ``env.record_trace: true`` its ``trace``, the time series ``aero-env simulate --trace`` writes.
@@ -164,7 +204,7 @@ class AerialAcrobatEnv(gym.Env):
 
     def design_for(self, action) -> dict[str, float]:
         """The tunable (and linked) values, SI, that ``action`` chooses."""
-        return self.space.values(self.space.check_action(action, self._clip))
+        return chosen_design(self.space, action, self._clip)
 
     @property
     def _clip(self) -> bool:
@@ -177,18 +217,15 @@ class AerialAcrobatEnv(gym.Env):
         self.last_run = None
         if self.render_mode == "human":
             self._show([self._start_frame()])
-        return self.space.observation(self._draw), {"context": dict(self._draw.context)}
+        return self.space.observation(self._draw), reset_info(self._draw)
 
     def step(self, action):
-        design = self.design_for(action)
-        cfg, built = self.space.episode_config(design, self._draw)
-        slowmo = cfg.env.render_slowmo
+        episode = plan_episode(self.space, self._draw, action, self._clip)
+        cfg = episode.config
         result = simulate(cfg, trace=cfg.env.record_trace,
-                          poses_every=pose_interval(slowmo) if self.render_mode else None)
+                          poses_every=pose_interval(cfg.env.render_slowmo) if self.render_mode else None)
         self.last_run = result
-        info = result.to_json_dict()
-        del info["wall_time"]  # the only field that is not a function of config and seed
-        info.update(design=design, context=dict(self._draw.context), as_built=built)
+        info = episode_info(result.to_json_dict(), episode, self._draw)
         if self.render_mode == "human":
             self.render()
         return self.space.observation(self._draw), reward(result, cfg), True, False, info

@@ -1,0 +1,65 @@
+"""Per-episode infos as one vector info, and the runs of a reduced-model batch as per-design run dicts.
+
+:func:`stack_infos` gives what Gymnasium's ``VectorEnv._add_info`` builds when every sub-env's info is
+added in turn (``SyncVectorEnv`` does that), for infos that share their keys, as here: each key an array
+with one entry per sub-env (the dtype rule is Gymnasium's: ``int``, ``float``, ``bool`` and numpy
+scalars give an array of that type, dicts recurse, anything else an object array), beside a ``_key``
+mask. It builds each array once instead of assigning N entries one at a time.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+__all__ = ["stack_infos", "stack_values", "batch_runs"]
+
+# Gymnasium's _add_info gives a typed array to exactly these types (and numpy scalars); others go in objects.
+_TYPED_SCALARS = (int, float, bool)
+
+
+def stack_values(values: Sequence) -> np.ndarray:
+    """One info key's values, one per sub-env, as ``VectorEnv._add_info`` stores them."""
+    first = values[0]
+    if type(first) in _TYPED_SCALARS or issubclass(type(first), np.number):
+        out = np.zeros(len(values), dtype=type(first))
+        out[:] = values  # as _add_info's item assignments: None becomes NaN in a float array
+        return out
+    if isinstance(first, np.ndarray):
+        return np.stack(values).astype(first.dtype, copy=False)
+    out = np.full(len(values), None, dtype=object)
+    for i, v in enumerate(values):  # item by item: a list value must stay one entry, not a new axis
+        out[i] = v
+    return out
+
+
+def stack_infos(infos: Sequence[dict]) -> dict:
+    """The vector info of per-sub-env ``infos`` that share their keys, every ``_key`` mask all True."""
+    n = len(infos)
+    out: dict = {}
+    for key, first in infos[0].items():
+        values = [info[key] for info in infos]
+        out[key] = stack_infos(values) if isinstance(first, dict) else stack_values(values)
+        out[f"_{key}"] = np.ones(n, dtype=np.bool_)
+    return out
+
+
+def batch_runs(batch, fidelity: str) -> list[dict]:
+    """Each design's run from a :class:`aero_env.models.reduced.BatchResult`, as the fields of
+    ``SimResult.to_json_dict()`` that a batch keeps, in that order: ``traversals``, ``frames``, ``outcome``,
+    ``reason``, ``sim_time``, ``miss_distance`` (None where the run completed or has none) and ``fidelity``.
+    A batch keeps no per-swing records, energy bookkeeping or health (the single env's ``swings``,
+    ``energy``, ``health``) and no wall time."""
+    traversals = batch.traversals.tolist()
+    outcomes = batch.outcome.tolist()
+    sim_times = batch.sim_time.tolist()
+    misses = batch.miss_distance.tolist()
+    runs = []
+    for i in range(len(batch)):
+        miss = misses[i]
+        runs.append(dict(traversals=int(traversals[i]), frames=int(batch.frames), outcome=str(outcomes[i]),
+                         reason=batch.reason(i), sim_time=float(sim_times[i]),
+                         miss_distance=None if outcomes[i] == "completed" or not np.isfinite(miss) else float(miss),
+                         fidelity=fidelity))
+    return runs
