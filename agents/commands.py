@@ -55,7 +55,10 @@ def register(sub, scene_command) -> None:
     rp.add_argument("--algo", default="ppo", choices=ALGOS, help="the RL algorithm")
     rp.add_argument("--timesteps", type=int, default=2000,
                     help="environment steps = episodes = designs tried (with --resume: the run's total)")
-    rp.add_argument("--n-envs", type=int, default=1, help="environments stepped together (>1: one process each)")
+    rp.add_argument("--n-envs", type=int, default=1, help="environments stepped together (>1: one process each, or one vector env with --vector)")
+    rp.add_argument("--vector", action="store_true",
+                    help="step the --n-envs designs in one call of the native vector env (at sim.fidelity reduced: one "
+                         "call of the compiled model; at a pymunk fidelity: a pool of processes over the cores)")
     rp.add_argument("--seed", type=int, default=0, help="seed of the policy and of the training episodes")
     rp.add_argument("--eval-every", type=int, default=500, metavar="STEPS",
                     help="timesteps between periodic evaluations (0: none)")
@@ -67,7 +70,7 @@ def register(sub, scene_command) -> None:
     rp.add_argument("--overwrite", action="store_true", help="replace the run already in --out (its files are removed)")
     rp.add_argument("--resume", action="store_true",
                     help="go on with the run in --out (stopped by Ctrl-C, or finished: up to --timesteps in all), with "
-                         "the same CONFIG, --set, --algo, --n-envs, --seed, --eval-every and --hp")
+                         "the same CONFIG, --set, --algo, --n-envs, --vector, --seed, --eval-every and --hp")
     rp.add_argument("--no-progress", action="store_true", help="no progress bar")
     rp.set_defaults(func=cmd_train)
 
@@ -144,7 +147,7 @@ def cmd_train(args) -> int:
 
     hp = dict(parse_override(t) for t in args.hp or [])
     settings = TrainSettings(algo=args.algo, timesteps=args.timesteps, n_envs=args.n_envs, seed=args.seed,
-                             eval_every=args.eval_every, hyperparameters=hp, progress=not args.no_progress).check()
+                             eval_every=args.eval_every, vector=args.vector, hyperparameters=hp, progress=not args.no_progress).check()
     check_run_dir(args.out, args.overwrite, args.resume)
     cfg = load_scene(args)
     try:

@@ -83,6 +83,7 @@ class TrainSettings:
     n_envs: int = 1
     seed: int = 0
     eval_every: int = 500          # timesteps between periodic evaluations (0: none)
+    vector: bool = False           # step the n_envs designs in one call of the native vector env
     hyperparameters: Mapping[str, Any] | None = None
     progress: bool = True
 
@@ -181,8 +182,8 @@ def _resume_state(cfg: Config, settings: "TrainSettings", out: Path) -> dict:
     if load_config(out / "config.yaml") != cfg:
         raise ConfigError(f"--resume: the run in {str(out)!r} was trained on another scene (its config.yaml); "
                           f"give the same CONFIG and --set, or a new --out")
-    for key in ("algo", "n_envs", "seed", "eval_every"):
-        if before.get(key) != getattr(settings, key):
+    for key in ("algo", "n_envs", "seed", "eval_every", "vector"):
+        if before.get(key, False if key == "vector" else None) != getattr(settings, key):  # runs before --vector
             raise ConfigError(f"--{key.replace('_', '-')} {getattr(settings, key)!r}: the run in {str(out)!r} was "
                               f"trained with {before.get(key)!r}; resume it with the same value")
     if before.get("hyperparameters") != _jsonable(settings.algo_kwargs()):
@@ -214,11 +215,20 @@ def make_env(cfg_dict: dict, monitor_file: str | None = None):
     return Monitor(AerialAcrobatEnv(from_dict(cfg_dict)), monitor_file)
 
 
-def _vec_env(cfg: Config, n_envs: int, seed: int, monitor_dir: Path | None, prefix: str = ""):
+def _vec_env(cfg: Config, n_envs: int, seed: int, monitor_dir: Path | None, prefix: str = "", vector: bool = False):
     from functools import partial
 
-    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
 
+    if vector:  # one call steps every design (at reduced: one kernel call; at a pymunk fidelity: a process pool)
+        from aero_env.envs import AerialAcrobatVectorEnv
+
+        from .vec_env import GymnasiumVecEnv
+
+        monitor = str(monitor_dir / f"{prefix}vector") if monitor_dir else None
+        venv = VecMonitor(GymnasiumVecEnv(AerialAcrobatVectorEnv(n_envs, cfg)), monitor)
+        venv.seed(seed)
+        return venv
     fns = [partial(make_env, cfg.to_dict(), str(monitor_dir / f"{prefix}{i}") if monitor_dir else None)
            for i in range(n_envs)]
     venv = SubprocVecEnv(fns, start_method="spawn") if n_envs > 1 else DummyVecEnv(fns)
@@ -254,7 +264,8 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
     (out / "config.yaml").write_text(cfg.to_yaml())
     cls = {"ppo": sb3.PPO, "sac": sb3.SAC}[settings.algo]
     segment = before.get("segments", 1) if before else 0  # monitor files of resumed segments: r1-0, r2-0, ...
-    venv = _vec_env(cfg, settings.n_envs, settings.seed + (1000 * segment), out, f"r{segment}-" if segment else "")
+    venv = _vec_env(cfg, settings.n_envs, settings.seed + (1000 * segment), out, f"r{segment}-" if segment else "",
+                    settings.vector)
     callbacks = []
     if settings.eval_every:
         eval_env = _vec_env(cfg, 1, settings.seed + EVAL_SEED_OFFSET, None)
@@ -276,7 +287,8 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
         model = cls("MlpPolicy", venv, seed=settings.seed, device="cpu", verbose=0, **settings.algo_kwargs())
         todo, wall_before = settings.timesteps, 0.0
     run = dict(algo=settings.algo, timesteps=settings.timesteps, n_envs=settings.n_envs, seed=settings.seed,
-               eval_every=settings.eval_every, hyperparameters=_jsonable(settings.algo_kwargs()))
+               eval_every=settings.eval_every, vector=settings.vector,
+               hyperparameters=_jsonable(settings.algo_kwargs()))
     t0 = time.perf_counter()
     try:
         with warnings.catch_warnings():  # the evaluations run one env in-process, whatever --n-envs says
