@@ -204,7 +204,7 @@ def screen(cfg: Config, settings: TuneSettings) -> dict:
     ``env.step`` would pay at that fidelity, so the screen ranks by the study's own objective."""
     from gymnasium.utils import seeding
 
-    from aero_env.reward import batch_reward, reward
+    from aero_env.reward import batch_reward, reward, rewards
     from aero_env.simulation import simulate
 
     t0 = time.perf_counter()
@@ -214,14 +214,23 @@ def screen(cfg: Config, settings: TuneSettings) -> dict:
     actions = rng.uniform(-1.0, 1.0, (settings.screen_designs, space.dim))
     seeds = settings.eval_seeds if space.draws_anything else settings.eval_seeds[:1]
     draws = [space.draw(seeding.np_random(s)[0]) for s in seeds]  # what env.reset(seed=s) draws
-    cfgs = [space.episode_config(space.values(a), d)[0] for a in actions for d in draws]
+    values = [space.values(a) for a in actions]
     if cheap.sim.model == "reduced":
-        from aero_env.models.reduced import simulate_batch
+        from aero_env.models.reduced import READ_KEYS, simulate_batch, simulate_values
 
-        rewards = batch_reward(simulate_batch(cfgs), cfgs)
+        if not space.draws_anything and set(values[0]) <= READ_KEYS:
+            # no Config per design: the values go in as arrays, checked as with_values checks them (the same runs)
+            arrays = {k: np.array([v[k] for v in values]) for k in values[0]}
+            batch = simulate_values(cheap, arrays)
+            paid = rewards(batch.outcome, batch.traversals, batch.flew, batch.miss_distance,
+                           arrays.get("scene.pitch", cheap.scene.pitch), cheap.env.reward_shaping)
+        else:
+            cfgs = [space.episode_config(v, d)[0] for v in values for d in draws]
+            paid = batch_reward(simulate_batch(cfgs), cfgs)
     else:
-        rewards = np.array([reward(simulate(c), c) for c in cfgs])
-    scores = rewards.reshape(len(actions), len(draws)).mean(axis=1)
+        cfgs = [space.episode_config(v, d)[0] for v in values for d in draws]
+        paid = np.array([reward(simulate(c), c) for c in cfgs])
+    scores = paid.reshape(len(actions), len(draws)).mean(axis=1)
     order = np.argsort(-scores, kind="stable")[:settings.trials]  # ties: in draw order (seeded)
     full_row = cfg.scene.frames - 1
     return dict(fidelity=settings.screen, designs=len(actions), seeds=len(draws),

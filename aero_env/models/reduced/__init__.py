@@ -116,10 +116,13 @@ _run = _import_kernels()
 from .constants import STEP  # noqa: E402
 from .layout import O, OUTCOMES, W  # noqa: E402
 from .outputs import BatchResult, batch_result, sim_result  # noqa: E402
-from .params import (check_raw, check_scene, param_table, raw_from_configs, set_friction_law,  # noqa: E402
-                     step_for)
+from .params import (DESIGN_KEYS, SCENE_KEYS, check_raw, check_scene, param_table,  # noqa: E402
+                     raw_from_configs, set_friction_law, step_for)
 
-__all__ = ["BatchResult", "OUTCOMES", "STEP", "compile_kernels", "kernel_cache_dir", "simulate_batch",
+# the dotted config keys the model reads (simulate_values takes these)
+READ_KEYS = frozenset([f"design.{k}" for k in DESIGN_KEYS] + [f"scene.{k}" for k in SCENE_KEYS])
+
+__all__ = ["BatchResult", "OUTCOMES", "READ_KEYS", "STEP", "compile_kernels", "kernel_cache_dir", "simulate_batch",
            "simulate_reduced", "simulate_values", "swing_trace"]
 
 
