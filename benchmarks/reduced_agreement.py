@@ -1,6 +1,7 @@
 """How well the reduced model agrees with the pymunk world on random designs.
 
-    python benchmarks/reduced_agreement.py [CONFIG] [--designs 200] [--seed 1] [--cache FILE.json]
+    python benchmarks/reduced_agreement.py [CONFIG] [--designs 200] [--seed 1] [--near CONFIG --spread S]
+                                           [--cache FILE.json]
 
 Draws ``--designs`` uniformly random actions in [-1, 1]^dim, maps them to designs with
 ``DesignSpace(cfg).values`` and ``episode_config`` (the nominal draw), and runs each through the
@@ -10,7 +11,9 @@ through ``aero_env.models.reduced.simulate_batch``. The pymunk results are cache
 reruns the reduced model. Prints JSON: the fractions with the same traversal count and the same
 outcome, Spearman and Pearson correlations of the traversals, the median |error| of the first
 detach time and angle (designs that detach in both), the confusion matrix of outcomes, and how
-the designs that complete the row in pymunk score in the reduced model.
+the designs that complete the row in pymunk score in the reduced model. ``--near CONFIG --spread S``
+draws the designs near that config's design instead (``aero-env bench accuracy``'s box: ±S of each
+action range), where a tuner spends its time once a design works.
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ from pathlib import Path
 import numpy as np
 from scipy.stats import pearsonr, spearmanr
 
+from aero_env.bench.designs import draw_designs
 from aero_env.config import load_config
 from aero_env.design_space import DesignSpace
 from aero_env.models.reduced import OUTCOMES, simulate_batch
@@ -54,15 +58,23 @@ def main() -> None:
     ap.add_argument("--designs", type=int, default=200)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--cache", type=Path, default=Path("/tmp/aero_env_reduced_agreement.json"))
+    ap.add_argument("--near", type=Path, help="draw the designs near this config's design")
+    ap.add_argument("--spread", type=float, default=0.1, help="with --near: the box's half-width, a fraction of "
+                    "each action range")
     ap.add_argument("--details", action="store_true", help="also list every design that disagrees")
     args = ap.parse_args()
     cfg = load_config(args.config)
-    space = DesignSpace(cfg)
-    actions = np.random.default_rng(args.seed).uniform(-1.0, 1.0, (args.designs, space.dim))
-    cfgs = [space.episode_config(space.values(a), space.nominal_draw())[0] for a in actions]
+    if args.near is None:
+        space = DesignSpace(cfg)
+        actions = np.random.default_rng(args.seed).uniform(-1.0, 1.0, (args.designs, space.dim))
+        cfgs = [space.episode_config(space.values(a), space.nominal_draw())[0] for a in actions]
+    else:
+        cfgs = list(draw_designs(cfg, args.designs, args.seed, near=load_config(args.near),
+                                 spread=args.spread).configs)
     # the cache is only valid for the physics that made it: key it by the physics sources too
     src = b"".join(p.read_bytes() for p in sorted((ROOT / "aero_env" / "physics").glob("*.py")))
-    key = f"{Path(args.config).resolve()}|{args.seed}|{args.designs}|{hashlib.sha1(src).hexdigest()[:12]}"
+    near = f"|near {args.near.resolve()} {args.spread}" if args.near else ""
+    key = f"{Path(args.config).resolve()}|{args.seed}|{args.designs}{near}|{hashlib.sha1(src).hexdigest()[:12]}"
     pm = pymunk_runs(cfgs, args.cache, key)
     t0 = time.perf_counter()
     rd = simulate_batch(cfgs)
@@ -77,7 +89,8 @@ def main() -> None:
     completes = pt == full
     confusion = collections.Counter(zip(po.tolist(), rd.outcome.tolist()))
     out = dict(
-        config=args.config, designs=args.designs, seed=args.seed, reduced_wall_s=round(wall, 3),
+        config=args.config, designs=args.designs, seed=args.seed, near=str(args.near) if args.near else None,
+        spread=args.spread if args.near else None, reduced_wall_s=round(wall, 3),
         pymunk_wall_s=round(sum(r["wall_time"] for r in pm), 2),
         same_traversals=float(np.mean(pt == rd.traversals)), same_outcome=float(np.mean(po == rd.outcome)),
         spearman_traversals=float(spearmanr(pt, rd.traversals)[0]),
