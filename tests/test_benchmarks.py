@@ -1,0 +1,78 @@
+"""Every script in benchmarks/ runs at a tiny size, so none can rot unnoticed. Nothing here times anything:
+each run is checked for what it reports (counts, the designs it ran, the physics it must show)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = str(ROOT / "configs" / "paper.yaml")
+
+
+def _bench(script: str, *args: str, expect: int = 0, cwd: Path = ROOT):
+    out = subprocess.run([sys.executable, str(ROOT / "benchmarks" / script), *args], capture_output=True, text=True,
+                         timeout=600, cwd=cwd)
+    assert out.returncode == expect, out.stderr[-3000:]
+    return json.loads(out.stdout) if expect == 0 else out.stderr
+
+
+def test_env_step():
+    r = _bench("env_step.py", "--designs", "3", "--repeats", "1")
+    assert r["random"]["designs"] == 3 and sum(r["random"]["outcomes"].values()) == 3
+    assert r["prototype"]["reward"] == 7.0  # the prototype completes its row through env.step
+
+
+def test_reduced_speed():
+    r = _bench("reduced_speed.py", "--designs", "40", "--repeats", "1", "--threads", "1")
+    assert r["designs"] == 40 and r["threads"] == 1 and sum(r["outcomes"].values()) == 40
+    assert r["compile_s"] >= 0.0 and r["simulated_s"]["max"] >= r["simulated_s"]["median"] > 0.0
+    err = _bench("reduced_speed.py", "--threads", "0", expect=2)
+    assert "--threads = 0" in err
+
+
+def test_reduced_agreement_caches_the_pymunk_runs(tmp_path):
+    cache = tmp_path / "runs.json"
+    first = _bench("reduced_agreement.py", "--designs", "6", "--seed", "3", "--cache", str(cache))
+    assert first["designs"] == 6 and 0.0 <= first["same_traversals"] <= 1.0 and first["near"] is None
+    assert len(json.loads(cache.read_text())) == 1
+    # the second call reruns only the reduced model: the pymunk runs (their wall times included) come back as stored
+    again = _bench("reduced_agreement.py", "--designs", "6", "--seed", "3", "--cache", str(cache))
+    assert again["pymunk_wall_s"] == first["pymunk_wall_s"] and again["same_traversals"] == first["same_traversals"]
+    near = _bench("reduced_agreement.py", "--designs", "4", "--seed", "3", "--cache", str(cache), "--near", PAPER)
+    assert near["near"] == PAPER and near["spread"] == 0.1 and len(json.loads(cache.read_text())) == 2
+
+
+def test_rl_vs_tuning():
+    r = _bench("rl_vs_tuning.py", "--budget", "16", "--seeds-per-design", "1", "--holdout", "3",
+               "--methods", "prototype,random,ppo", "--jobs", "1", "--json")
+    assert [row["method"] for row in r["rows"]] == ["prototype", "random", "ppo"]
+    assert r["rows"][0]["episodes"] == 0  # the prototype is not searched
+    assert all(0.0 <= row["mean_reward"] <= r["frames"] - 1 for row in r["rows"])
+
+
+def test_shaping_adversary():
+    r = _bench("shaping_adversary.py", "--trials", "4", "--survey", "4", "--json")
+    assert r["survey"]["designs"] == 4 and r["audit"]["designs"] == 4
+    assert r["audit"]["failed"] == 0  # the env's reward credits nothing the audit refuses
+
+
+@pytest.mark.parametrize("script, args, key", [
+    ("tune_samplers.py", [PAPER, "--trials", "4", "--seeds", "1", "--samplers", "random,cmaes", "--jobs", "1",
+                          "--json"], "samplers"),
+    ("tune_screening.py", [PAPER, "--seeds", "1", "--trials", "3", "--screen-designs", "50", "--confirm", "2"],
+     "runs"),
+])
+def test_tuning_benchmarks(script, args, key):
+    r = _bench(script, *args)
+    if key == "samplers":
+        assert [s["sampler"] for s in r["samplers"]] == ["random", "cmaes"] and all(
+            s["studies"] == 1 and len(s["best_rewards"]) == 1 for s in r["samplers"])
+    else:
+        (plain,), (screened,) = r["runs"]["cmaes"], r["runs"]["screened"]
+        assert plain["trials"] == 3 and screened["trials"] == 2  # the screen enqueues --confirm designs
+        assert screened["screen_wall"] < screened["wall"] and r["compile_s"] >= 0.0
