@@ -14,33 +14,12 @@ import math
 from numba import njit
 
 from ... import units
-from .hooked_dynamics import com_velocity_from_hook, hook_from_com, hook_on_frame, stick_eval, stick_step, theta2
+from .hooked_dynamics import (com_velocity_from_hook, hook_from_com, hook_on_frame, solve_hooked, stick_eval,
+                              stick_step, theta2)
 from .layout import HOOKED, R_COMPLETED, O, P, W, X
 from .transitions import finish, start_swing
 
 G = units.GRAVITY
-
-
-@njit(cache=True, error_model="numpy")
-def solve_sticking(A, B, C, D, E, F, r0, r1, r2, frame_held, arm_held):
-    """Solve [[A, D, E], [D, B, F], [E, F, C]]·q = r with the frame and/or the arm held at a stop."""
-    if frame_held and arm_held:
-        y = (r1 + r2) / (B + 2.0 * F + C)
-        return 0.0, y, y
-    c00, c01, c02 = B * C - F * F, E * F - D * C, D * F - E * B
-    c11, c12, c22 = A * C - E * E, D * E - A * F, A * B - D * D
-    inv = 1.0 / (A * c00 + D * c01 + E * c02)
-    x0 = (c00 * r0 + c01 * r1 + c02 * r2) * inv
-    x1 = (c01 * r0 + c11 * r1 + c12 * r2) * inv
-    x2 = (c02 * r0 + c12 * r1 + c22 * r2) * inv
-    if frame_held:
-        k = x0 / c00
-        return 0.0, x1 - k * c01, x2 - k * c02
-    if arm_held:
-        u0, u1, u2 = c01 - c02, c11 - c12, c12 - c22
-        k = (x1 - x2) / (u1 - u2)
-        return x0 - k * u0, x1 - k * u1, x2 - k * u2
-    return x0, x1, x2
 
 
 @njit(cache=True, error_model="numpy")
@@ -79,10 +58,10 @@ def catch(p, x, out, sw, t_c, t1, gap, frames):
     D, E = Pa * (Hwx * ca + Hwy * sa), Pt * (Hwx * ct + Hwy * st)
     F = Pat * cat
     arm_held = x[X.lockA] > 0.0
-    q0, q1, q2 = solve_sticking(A, Ja, Jt, D, E, F, p0, p2, p3, False, arm_held)
+    q0, q1, q2 = solve_hooked(A, Ja, Jt, D, E, F, p0, p2, p3, False, arm_held)
     pushed_back = q0 < 0.0  # pushed into the rest stop: the frame stays there
     if pushed_back:
-        q0, q1, q2 = solve_sticking(A, Ja, Jt, D, E, F, p0, p2, p3, True, arm_held)
+        q0, q1, q2 = solve_hooked(A, Ja, Jt, D, E, F, p0, p2, p3, True, arm_held)
     cy = x[X.cy0] + x[X.vy0] * tau - 0.5 * G * tau * tau
     hy_old = cy + hook_from_com(p, pa, pt)[1]
     lift = m * G * (j * p[P.rise] + p[P.seaty] - hy_old)

@@ -68,6 +68,30 @@ def hook_on_frame(p, x):
 
 
 @njit(cache=True, error_model="numpy")
+def solve_hooked(A, B, C, D, E, F, r0, r1, r2, frame_held, arm_held):
+    """Solve the sticking hook's [[A, D, E], [D, B, F], [E, F, C]]·q = r over (theta1, phi_a, phi_t) by cofactors,
+    a held stop projecting its coordinate out: the frame's (q0 = 0), the arm's (J = (0, 1, -1)), or both (only the
+    robot's rigid turn about the hook is left)."""
+    if frame_held and arm_held:
+        y = (r1 + r2) / (B + 2.0 * F + C)
+        return 0.0, y, y
+    c00, c01, c02 = B * C - F * F, E * F - D * C, D * F - E * B
+    c11, c12, c22 = A * C - E * E, D * E - A * F, A * B - D * D
+    inv = 1.0 / (A * c00 + D * c01 + E * c02)
+    x0 = (c00 * r0 + c01 * r1 + c02 * r2) * inv
+    x1 = (c01 * r0 + c11 * r1 + c12 * r2) * inv
+    x2 = (c02 * r0 + c12 * r1 + c22 * r2) * inv
+    if frame_held:  # x - M^-1·e0·x0/(M^-1)_00
+        k = x0 / c00
+        return 0.0, x1 - k * c01, x2 - k * c02
+    if arm_held:
+        u0, u1, u2 = c01 - c02, c11 - c12, c12 - c22
+        k = (x1 - x2) / (u1 - u2)
+        return x0 - k * u0, x1 - k * u1, x2 - k * u2
+    return x0, x1, x2
+
+
+@njit(cache=True, error_model="numpy")
 def stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt):
     """Accelerations (theta1, phi_a, phi_t) of a design whose hook sticks (s fixed), and the handrail's force on
     the hook (Fx, Fy), the stops' loads (lam1 frame, lamA arm) and the frame's cos/sin. The 3x3 mass matrix is
@@ -95,23 +119,7 @@ def stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt):
     r0 = -p[P.mg] * Hx + p[P.cfr] * c1 + p[P.m3gh] * s1 - (Hx * By - Hy * Bx) - tp + tf
     r1 = -p[P.Pag] * ca - tau + tp + Pa * hxh - Pat * sat * wt2 + ta
     r2 = -p[P.Ptg] * ct + tau + Pt * hth + Pat * sat * wa2 - ta
-    c00, c01, c02 = B * C - F * F, E * F - D * C, D * F - E * B
-    c11, c12, c22 = A * C - E * E, D * E - A * F, A * B - D * D
-    inv = 1.0 / (A * c00 + D * c01 + E * c02)
-    x0 = (c00 * r0 + c01 * r1 + c02 * r2) * inv
-    x1 = (c01 * r0 + c11 * r1 + c12 * r2) * inv
-    x2 = (c02 * r0 + c12 * r1 + c22 * r2) * inv
-    frame_held, arm_held = x[X.lock1] > 0.0, x[X.lockA] > 0.0
-    if frame_held and arm_held:  # only the robot's rigid turn about the hook is left
-        x0, x1 = 0.0, (r1 + r2) / (B + 2.0 * F + C)
-        x2 = x1
-    elif frame_held:  # x - M^-1·e0·x0/(M^-1)_00
-        k = x0 / c00
-        x0, x1, x2 = 0.0, x1 - k * c01, x2 - k * c02
-    elif arm_held:  # J = (0, 1, -1)
-        u0, u1, u2 = c01 - c02, c11 - c12, c12 - c22
-        k = (x1 - x2) / (u1 - u2)
-        x0, x1, x2 = x0 - k * u0, x1 - k * u1, x2 - k * u2
+    x0, x1, x2 = solve_hooked(A, B, C, D, E, F, r0, r1, r2, x[X.lock1] > 0.0, x[X.lockA] > 0.0)
     Fx = -m * Hy * x0 - Pa * sa * x1 - Pt * st * x2 + Bx
     Fy = m * Hx * x0 + Pa * ca * x1 + Pt * ct * x2 + By + p[P.mg]
     lam1 = A * x0 + D * x1 + E * x2 - r0
