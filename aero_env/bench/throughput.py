@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import functools
 import math
-import time
 
 import gymnasium as gym
 import numpy as np
@@ -40,12 +39,6 @@ def _fidelity(cfg: Config, name: str) -> Config:
     return cfg.replace({"sim.fidelity": name})
 
 
-def _timed_first(fn) -> float:
-    t0 = time.perf_counter()
-    fn()
-    return time.perf_counter() - t0
-
-
 def _single_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int) -> dict:
     """One single env, one design at a time: reset(seed + i), step(action i)."""
     env = AerialAcrobatEnv(cfg)
@@ -57,7 +50,7 @@ def _single_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int) -> di
             rewards.append(env.step(a)[1])
         return rewards
 
-    first = _timed_first(lambda: (env.reset(seed=seed), env.step(actions[0])))
+    first = median_time(lambda: (env.reset(seed=seed), env.step(actions[0])), 1)[0]
     wall, rewards = median_time(run, repeats)
     env.close()
     return dict(name=cfg.sim.fidelity, how="single env", designs=len(actions), wall_s=wall,
@@ -72,7 +65,7 @@ def _vector_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int, worke
             envs.reset(seed=seed)
             return envs.step(actions)[1]
 
-        first = _timed_first(run)
+        first = median_time(run, 1)[0]
         wall, rewards = median_time(run, repeats)
     finally:
         envs.close()
