@@ -81,7 +81,7 @@ def step_for(cfg: Config) -> float:
 
 
 def check_raw(raw) -> None:
-    """config._check_design's cross-checks, vectorised."""
+    """The config's design cross-checks (``aero_env/config/sections.py``: ``_check_design``), vectorised."""
     d = lambda k: raw["design." + k]  # noqa: E731
     checks = [
         (d("mu_k") > d("mu_s"), "design.mu_k must not exceed design.mu_s"),

@@ -1,0 +1,269 @@
+"""The :class:`Config` and how one is made: from a mapping, a YAML file or ``--set`` overrides.
+
+Also the schema table (``aero-env schema``, docs/configuration.md) read from the declarations.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any, Mapping
+
+import yaml
+
+from .design_problem import (DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, ContextRange, Tolerance, Tunable,
+                             _build_list)
+from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, EnvOptions, Scene, Sim, _check_design,
+                       _check_sim, real_field)
+from .validation import ConfigError, _build, _check_value, _range_text, did_you_mean
+
+
+@dataclass(frozen=True)
+class Config:
+    design: Design = field(default_factory=Design)
+    scene: Scene = field(default_factory=Scene)
+    sim: Sim = field(default_factory=Sim)
+    tunable: tuple[Tunable, ...] = DEFAULT_TUNABLES
+    context: tuple[ContextRange, ...] = DEFAULT_CONTEXT
+    tolerance: tuple[Tolerance, ...] = ()
+    env: EnvOptions = field(default_factory=EnvOptions)
+
+    def tunable_range(self, t: Tunable) -> tuple[float, float]:
+        """``t``'s ``(low, high)`` in its field's unit: as written, or times ``t.relative_to``'s value here.
+
+        A relative range is checked here, when the design problem is posed (the environment, a tuner),
+        not when the config is read: ``aero-env simulate`` ignores the tunables, so a scene scaled past
+        where its relative ranges fit the fields' ranges still simulates."""
+        if t.relative_to is None:
+            return t.low, t.high
+        i = self.tunable.index(t)
+        base = float(self.value(t.relative_to))
+        if not base > 0:
+            raise ConfigError(f"tunable[{i}].relative_to = {t.relative_to!r}: its value in this config is {base!r}; a "
+                              f"range relative to it needs a value > 0 (or give {t.name}'s low and high in its unit)")
+        low, high = t.low * base, t.high * base
+        f = real_field(t.name, f"tunable[{i}].name")
+        for key, v in (("low", low), ("high", high)):
+            _check_value(f"tunable[{i}].{key} ({getattr(t, key):g} x {t.relative_to} = {v:.6g}, a value of {t.name})",
+                         f, v)
+        return low, high
+
+    def to_dict(self) -> dict:
+        """Plain dicts and lists (YAML-ready); ``from_dict(cfg.to_dict())`` gives ``cfg`` back.
+
+        Sim fields equal to their fidelity preset's value are left out, so that the dict names the
+        fidelity and only what departs from it: ``replace({"sim.fidelity": ...})`` on it moves the
+        preset's fields with the fidelity."""
+        out = _plain(dataclasses.asdict(self))
+        preset = FIDELITY_PRESETS[self.sim.fidelity]
+        for key, value in preset.items():
+            if out["sim"][key] == value:
+                del out["sim"][key]
+        return out
+
+    def to_yaml(self) -> str:
+        """The whole config as YAML that :func:`load_config` reads back to an equal config."""
+        return yaml.safe_dump(self.to_dict(), sort_keys=False)
+
+    def value(self, key: str) -> Any:
+        """A field by dotted key, e.g. ``cfg.value("design.m3")`` or ``cfg.value("scene.effects.drag")``."""
+        node: Any = self
+        for name in key.split("."):
+            node = getattr(node, name)
+        return node
+
+    def with_values(self, values: Mapping[str, float]) -> "Config":
+        """A new config with real-valued ``design.*``/``scene.*`` fields set, each checked against its
+        range and the design's cross-checks (the fast path ``replace`` takes for numbers only)."""
+        changes: dict[str, dict[str, float]] = {"design": {}, "scene": {}}
+        for key, v in values.items():
+            f = real_field(key, "key")
+            sec, name = key.split(".", 1)
+            changes[sec][name] = _check_value(key, f, v)
+        cfg = dataclasses.replace(self, design=dataclasses.replace(self.design, **changes["design"]),
+                                  scene=dataclasses.replace(self.scene, **changes["scene"]))
+        _check_design(cfg.design)
+        return cfg
+
+    def replace(self, overrides: Mapping[str, Any]) -> "Config":
+        """A new validated config with dotted-key overrides applied."""
+        return from_dict(self.to_dict(), overrides)
+
+
+def _plain(x: Any) -> Any:
+    if isinstance(x, Mapping):
+        return {k: _plain(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_plain(v) for v in x]
+    return x
+
+
+def _set_dotted(tree: dict, key: str, value: Any) -> None:
+    if key in LIST_SECTIONS:  # a list section is replaced whole
+        tree[key] = value
+        return
+    parts = key.split(".")
+    if len(parts) < 2 or parts[0] not in SECTIONS:
+        hint = did_you_mean(key, [r[0] for r in schema_rows() if "[]" not in r[0]] + list(LIST_SECTIONS))
+        raise ConfigError(f"override key {key!r}: must start with one of {sorted(SECTIONS)} (e.g. design.m2), "
+                          f"or be one of {sorted(LIST_SECTIONS)}{hint}")
+    node = tree
+    for p in parts[:-1]:
+        child = node.setdefault(p, {})
+        if not isinstance(child, dict):
+            raise ConfigError(f"override key {key!r}: {p!r} is a value, not a section")
+        node = child
+    node[parts[-1]] = value
+
+
+def from_dict(data: Mapping[str, Any] | None, overrides: Mapping[str, Any] | None = None) -> Config:
+    """Validate a plain mapping (as read from YAML) plus dotted overrides into a Config."""
+    tree = _deep_copy(data or {})
+    if not isinstance(tree, dict):
+        raise ConfigError(f"config: must be a mapping with sections {sorted(SECTIONS)}, got {data!r}")
+    for key, value in (overrides or {}).items():
+        _set_dotted(tree, key, value)
+    _apply_fidelity(tree, overrides or {})
+    unknown = sorted(map(str, set(tree) - set(SECTIONS) - set(LIST_SECTIONS)))
+    if unknown:
+        hint = did_you_mean(unknown[0], SECTIONS | LIST_SECTIONS)
+        raise ConfigError(f"{unknown[0]}: unknown section{hint}; allowed sections are "
+                          f"{sorted(SECTIONS | LIST_SECTIONS)}")
+    sections = {name: _build(cls, tree.get(name), name) for name, cls in SECTIONS.items()}
+    lists = {name: _build_list(name, tree[name]) for name in LIST_SECTIONS if name in tree}
+    cfg = Config(**sections, **lists)
+    _check_design(cfg.design)
+    _check_sim(cfg.sim)
+    _check_design_problem(cfg)
+    return cfg
+
+
+def _apply_fidelity(tree: dict, overrides: Mapping[str, Any]) -> None:
+    """Fill the sim fields the fidelity preset names, unless the config names them itself.
+
+    An override of ``sim.fidelity`` chooses that preset's numbers over the file's: the file's
+    preset fields are dropped unless the same overrides set them too. So
+    ``--set sim.fidelity=reference`` on a file that lists ``sim.dt`` runs at the reference step,
+    and ``--set sim.fidelity=mbd-fast --set sim.dt=0.0008`` runs mbd-fast at 0.8 ms.
+    """
+    sim = tree.get("sim")
+    if sim is None:
+        sim = tree["sim"] = {}
+    if not isinstance(sim, dict):
+        return  # _build names the problem
+    name = sim.get("fidelity", DEFAULT_FIDELITY)
+    if not isinstance(name, str) or name not in FIDELITY_PRESETS:
+        raise ConfigError(f"sim.fidelity = {name!r}: must be one of {list(FIDELITY_PRESETS)} (cheapest first)")
+    preset = FIDELITY_PRESETS[name]
+    if "sim.fidelity" in overrides:
+        for key in preset:
+            if f"sim.{key}" not in overrides:
+                sim.pop(key, None)
+    for key, value in preset.items():
+        sim.setdefault(key, value)
+
+
+def _check_design_problem(cfg: Config) -> None:
+    """A field is either chosen (tunable) or given (context), and links only fields that are neither."""
+    tuned = {t.name for t in cfg.tunable}
+    for i, c in enumerate(cfg.context):
+        if c.name in tuned:
+            raise ConfigError(f"context[{i}].name = {c.name!r}: also tunable; the designer either chooses a value "
+                              f"or is given it, not both")
+    given = {c.name for c in cfg.context}
+    leader: dict[str, str] = {}
+    for i, t in enumerate(cfg.tunable):
+        for key in t.linked:
+            if key in tuned or key in given:
+                raise ConfigError(f"tunable[{i}].linked: {key!r} is itself tunable or context; it cannot also follow "
+                                  f"{t.name}")
+            if key in leader:
+                raise ConfigError(f"tunable[{i}].linked: {key!r} already follows {leader[key]}; a field can follow "
+                                  f"one tunable only")
+            leader[key] = t.name
+
+
+def _deep_copy(x: Any) -> Any:
+    if isinstance(x, Mapping):
+        return {k: _deep_copy(v) for k, v in x.items()}
+    return x
+
+
+def read_yaml(path: str | Path, what: str) -> Any:
+    """The YAML document in ``path`` (None for an empty file); a one-line ConfigError naming ``what`` (e.g.
+    "config file") and the file when it is missing, a folder, unreadable or not YAML (with the line)."""
+    p = Path(path)
+    if p.is_dir():
+        raise ConfigError(f"{what} {str(p)!r}: is a folder; give a YAML file (e.g. configs/paper.yaml)")
+    if not p.is_file():
+        raise ConfigError(f"{what} {str(p)!r}: not found")
+    try:
+        text = p.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise ConfigError(f"{what} {str(p)!r}: not a text file; expected YAML") from None
+    except OSError as exc:
+        raise ConfigError(f"{what} {str(p)!r}: cannot be read ({exc.strerror or exc})") from None
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f", line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+        why = getattr(exc, "problem", None) or str(exc)
+        context, start = getattr(exc, "context", None), getattr(exc, "context_mark", None)
+        if context:
+            since = f" from line {start.line + 1}" if start is not None and mark is not None and \
+                start.line != mark.line else ""
+            why = f"{why} ({context}{since})"
+        raise ConfigError(f"{what} {str(p)!r}{where}: not valid YAML: {' '.join(str(why).split())}") from None
+
+
+def load_config(path: str | Path | None = None, overrides: Mapping[str, Any] | None = None) -> Config:
+    """Load a YAML scene config (or the defaults when ``path`` is None) and apply overrides."""
+    if path is None:
+        return from_dict({}, overrides)
+    data = read_yaml(path, "config file")
+    if data is None:
+        raise ConfigError(f"config file {str(path)!r}: empty; a config is a YAML mapping of sections "
+                          f"({', '.join([*SECTIONS, *LIST_SECTIONS])}), e.g. configs/paper.yaml")
+    if not isinstance(data, Mapping):
+        raise ConfigError(f"config file {str(path)!r}: must be a YAML mapping of sections "
+                          f"({', '.join([*SECTIONS, *LIST_SECTIONS])}), got a {type(data).__name__}")
+    return from_dict(data, overrides)
+
+
+def parse_override(text: str) -> tuple[str, Any]:
+    """Parse a CLI ``KEY=VALUE`` override; the value is read as YAML (numbers, true/false, words)."""
+    if "=" not in text:
+        raise ConfigError(f"--set {text!r}: expected KEY=VALUE, e.g. design.m2=0.008")
+    key, raw = text.split("=", 1)
+    try:
+        value = yaml.safe_load(raw)
+    except yaml.YAMLError:
+        value = raw
+    return key.strip(), value
+
+
+def schema_rows() -> list[tuple[str, str, str, str, str]]:
+    """(key, default, unit, allowed, meaning) for every field, for docs and ``aero-env schema``."""
+    rows = []
+
+    def walk(cls, prefix):
+        for f in fields(cls):
+            sub = f.default_factory if f.default_factory is not dataclasses.MISSING else None
+            if sub is not None and dataclasses.is_dataclass(sub):
+                walk(sub, f"{prefix}.{f.name}")
+                continue
+            m = f.metadata
+            allowed = ("one of " + ", ".join(m["choices"])) if m["choices"] else (
+                "true/false" if f.type in (bool, "bool") else _range_text(m))
+            rows.append((f"{prefix}.{f.name}", repr(f.default), m["unit"], allowed, m["doc"]))
+
+    for name, cls in SECTIONS.items():
+        walk(cls, name)
+    for name, cls in LIST_SECTIONS.items():
+        for f in fields(cls):
+            m = f.metadata
+            default = "required" if f.name == "name" or (cls is Tunable and f.name in ("low", "high")) else repr(f.default)
+            rows.append((f"{name}[].{f.name}", default, m["unit"], "", m["doc"]))
+    return rows

@@ -1,0 +1,232 @@
+"""The config's sections: ``design``, ``scene`` (with its ``effects``), ``sim`` and ``env``.
+
+Every field is declared once here with :func:`spec` (default, unit, allowed range, meaning); the
+field order is the order of the schema table. Also the fidelity presets, the cross-checks
+between a section's fields, and the real-valued keys that list entries may name.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field, fields
+from typing import Any
+
+from ..units import GRAVITY
+from .validation import ConfigError, did_you_mean
+
+
+def spec(default: Any, unit: str, doc: str, lo: float | None = None, hi: float | None = None,
+         lo_open: bool = False, choices: tuple[str, ...] | None = None):
+    """Declare one config field: default, unit, meaning and allowed range."""
+    return field(default=default, metadata=dict(unit=unit, doc=doc, lo=lo, hi=hi,
+                                                lo_open=lo_open, choices=choices))
+
+
+@dataclass(frozen=True)
+class Design:
+    """What a designer changes. Table 1 and Table 3 (white/gray) of the article by default."""
+
+    La: float = spec(0.0483, "m", "axis to counterbalance, along the frame", 0.0, 1.0, lo_open=True)
+    Lb: float = spec(0.0517, "m", "axis to handrail (the hook's seat)", 0.0, 1.0, lo_open=True)
+    Lc: float = spec(0.03, "m", "two-link model: joint (hook) to robot centre; sets I2 with Ld", 0.0, 0.3)
+    Ld: float = spec(0.06, "m", "two-link model: joint (hook) to bottom of torso; sets I2 with Lc", 0.0, 0.5, lo_open=True)
+    h: float = spec(0.005, "m", "counterbalance offset normal to the frame", -0.1, 0.1)
+    m1: float = spec(0.004, "kg", "swing frame mass (I1 = 2*m1/3*(La^2+Lb^2-La*Lb))", 0.0, 0.1, lo_open=True)
+    m2: float = spec(0.00771, "kg", "robot mass as Table 1 counts it: torso card + coins + arm + the handrail "
+                     "(handrail_mass, which the world puts on the frame)", 0.0, 0.1, lo_open=True)
+    m3: float = spec(0.0072, "kg", "counterbalance mass (point mass at (La, h))", 0.0, 0.1, lo_open=True)
+    dT: float = spec(0.0, "N·m", "frame's own moment at theta1 = 0 without robot and counterbalance", -0.1, 0.1)
+    spring_k: float = spec(8.77e-4, "N·m/rad", "leaf-spring stiffness (torque = k·(alpha - alpha_min))", 0.0, 0.1, lo_open=True)
+    mu_s: float = spec(0.542, "-", "static friction, arm tip on handrail", 0.0, 10.0)
+    mu_k: float = spec(0.409, "-", "kinetic friction, arm tip on handrail (<= mu_s)", 0.0, 10.0)
+    arm_length: float = spec(0.03, "m", "arm: torso axle to hook tip", 0.0, 0.3, lo_open=True)
+    arm_mass: float = spec(0.0015, "kg", "arm mass (part of m2), a uniform rod", 0.0, 0.1, lo_open=True)
+    torso_length: float = spec(0.0874, "m", "torso card strip, from the axle down (fitted: docs/physics.md)", 0.0, 0.5, lo_open=True)
+    coin_mass: float = spec(0.004, "kg", "coins on the torso (part of m2; four 1-yen coins of 1 g)", 0.0, 0.1)
+    coin_radius: float = spec(0.01, "m", "coin radius (a 1-yen coin is 20 mm across)", 0.0, 0.1)
+    coin_offset: float = spec(0.0869, "m", "axle to the coins' centre, along the torso (fitted: docs/physics.md)", 0.0, 0.5)
+    handrail_mass: float = spec(0.00021, "kg", "the handrail's card, counted in m2 by Table 1 and carried by the "
+                                "frame at the seat (docs/physics.md: 0.21 g, not the 2.1 g the text prints)",
+                                0.0, 0.01)
+    pivot_friction: float = spec(1.0e-4, "N·m", "Coulomb friction torque of each frame's bamboo skewer in its card "
+                                 "shaft hole (0: no part built)", 0.0, 0.01)
+    axle_friction: float = spec(8.0e-6, "N·m", "Coulomb friction torque at the arm's axle in the torso (0: no part "
+                                "built)", 0.0, 0.01)
+    alpha_min_deg: float = spec(60.0, "deg", "arm angle with the spring straight (arm snapped forward)", 0.0, 180.0)
+    alpha_max_deg: float = spec(120.0, "deg", "arm angle with the spring fully bent", 0.0, 180.0)
+    rest_angle_deg: float = spec(55.0, "deg", "frame angle theta1 at rest, counterbalance against the stopper", -90.0, 270.0)
+    stop_angle_deg: float = spec(180.0, "deg", "frame angle theta1 at the end stop", -90.0, 270.0)
+    notch_angle_deg: float = spec(65.72, "deg", "handrail notch bisector direction (world) at the rest angle", -180.0, 180.0)
+    notch_opening_deg: float = spec(90.0, "deg", "angle between the handrail notch's two faces", 30.0, 150.0)
+    notch_back_face: float = spec(0.00426, "m", "handrail notch face that rises toward the back (at rest)", 0.0, 0.1, lo_open=True)
+    notch_front_face: float = spec(0.00584, "m", "handrail notch face that rises toward the front (at rest)", 0.0, 0.1, lo_open=True)
+    handrail_thickness: float = spec(0.001, "m", "card thickness of the handrail faces", 0.0, 0.01, lo_open=True)
+    hook_radius: float = spec(0.001, "m", "radius of the arm tip's contact edge", 0.0, 0.01, lo_open=True)
+    Cd: float = spec(1.05, "-", "drag coefficient (drag effect)", 0.0, 10.0)
+    rho: float = spec(1.29, "kg/m^3", "air density (drag effect)", 0.0, 100.0)
+    frame_width: float = spec(0.01, "m", "projected width of a frame, per unit length (drag effect)", 0.0, 0.1)
+    robot_width: float = spec(0.02, "m", "projected width of torso and arm (drag effect)", 0.0, 0.1)
+
+
+@dataclass(frozen=True)
+class Effects:
+    """The effects a scene switches on; the builder adds only the parts named here."""
+
+    drag: bool = spec(False, "-", "quadratic air drag on frames, torso and arm")
+    friction: str = spec("static_kinetic", "-", "hook friction law: static_kinetic switches mu_s/mu_k by slip speed; "
+                         "static or kinetic use one coefficient", choices=("static_kinetic", "static", "kinetic"))
+    spring_law: str = spec("linear", "-", "leaf spring: linear k·da, or stiffening k/2·da^2",
+                           choices=("linear", "stiffening"))
+    live_frames: int = spec(1, "-", "frames ahead of the robot's frame that are simulated (others cost nothing)", 1, 100)
+    hook: str = spec("contact", "-", "contact: the frictional hook on the notched handrail; pin: the two-link model "
+                     "(hook pinned to frame 0, robot one rigid body with m2, Lc, I2; for checking the world)",
+                     choices=("contact", "pin"))
+
+
+@dataclass(frozen=True)
+class Scene:
+    """The row of frames and the start state."""
+
+    frames: int = spec(8, "-", "swing frames in the row", 2, 1000)
+    pitch: float = spec(0.082, "m", "horizontal distance between neighbouring frame axes", 0.0, 0.5, lo_open=True)
+    rise: float = spec(0.002, "m", "height gained per frame (the incline of the row)", -0.1, 0.1)
+    theta2_start_deg: float = spec(81.0, "deg", "robot line angle at the first catch (brief: 80-81)", 0.0, 180.0)
+    floor_drop: float = spec(0.15, "m", "floor depth below the axis of the frame the robot left", 0.0, 2.0, lo_open=True)
+    effects: Effects = field(default_factory=Effects, metadata=dict(unit="", doc="effects switched on", lo=None,
+                                                                    hi=None, lo_open=False, choices=None))
+
+
+# The fidelity ladder, cheapest to most accurate. A preset is data: it fills the sim fields it
+# names, and a field the config names beside it wins (see ``from_dict``). ``model`` picks the
+# engine: ``mbd`` is the pymunk world, ``reduced`` the two-link swing with ballistic flight and a
+# geometric catch test (no pymunk; ``dt`` is then its integration step). ``reference`` is the step
+# and iteration count past which refining (half the step, twice the iterations) keeps the traversal count of >= 99 %
+# of random designs and moves the median first detach by <= one default step (measured: 99.0 %,
+# 0.19 ms on 200 designs): docs/fidelity.md, "The ladder, measured", gives the study and the rungs.
+FIDELITY_PRESETS: dict[str, dict[str, Any]] = {
+    "reduced": dict(model="reduced", dt=0.004, iterations=1, substeps=1),
+    "mbd-fast": dict(model="mbd", dt=0.001, iterations=30, substeps=1),
+    "mbd": dict(model="mbd", dt=0.0005, iterations=30, substeps=1),
+    "mbd-fine": dict(model="mbd", dt=0.00025, iterations=30, substeps=2),
+    "reference": dict(model="mbd", dt=0.0000625, iterations=120, substeps=1),
+}
+DEFAULT_FIDELITY = "mbd"
+
+
+@dataclass(frozen=True)
+class Sim:
+    """Fidelity, time stepping, solver and event thresholds."""
+
+    fidelity: str = spec(DEFAULT_FIDELITY, "-", "named preset of model, dt, iterations and substeps "
+                         "(cheapest first); a field set beside it wins over the preset",
+                         choices=tuple(FIDELITY_PRESETS))
+    model: str = spec("mbd", "-", "mbd: the pymunk world; reduced: two-link swing + ballistic flight + geometric "
+                      "catch test, no pymunk (set by the fidelity preset)", choices=("mbd", "reduced"))
+    dt: float = spec(0.0005, "s", "physics time step (reduced: its integration step); set by the fidelity preset",
+                     0.0, 0.01, lo_open=True)
+    iterations: int = spec(30, "-", "pymunk solver iterations per step; set by the fidelity preset", 1, 1000)
+    substeps: int = spec(1, "-", "pymunk steps of dt per runner step: events, friction switching and checks run "
+                         "once per runner step; set by the fidelity preset", 1, 100)
+    collision_slop: float = spec(2e-5, "m", "allowed contact overlap (pymunk slop)", 0.0, 0.001)
+    slip_speed: float = spec(0.001, "m/s", "tangential speed above which the hook slides (mu_k)", 0.0, 1.0, lo_open=True)
+    contact_hold: float = spec(0.01, "s", "contact must be lost (or kept) this long for a detach (or catch)", 0.0, 1.0, lo_open=True)
+    catch_seat: float = spec(0.003, "m", "a touch of the next handrail held for contact_hold is a catch only if the "
+                             "hook's centre came this close to the seat (the notch's corner) meanwhile; a seated hook "
+                             "sits there up to its penetration (< 1 mm); farther touches are grazes", 0.0, 0.1,
+                             lo_open=True)
+    flight_timeout: float = spec(0.5, "s", "longest flight between detach and catch", 0.0, 10.0, lo_open=True)
+    swing_timeout: float = spec(3.0, "s", "longest swing on one frame before it counts as stalled", 0.0, 60.0, lo_open=True)
+    rest_timeout: float = spec(1.0, "s", "a frame that has not left its rest angle this long after the catch never "
+                               "will (the hanging robot's swing only loses energy, so its largest pull comes "
+                               "first): stalled", 0.0, 60.0, lo_open=True)
+    stop_hold: float = spec(0.3, "s", "time hooked at the end stop before the run is no_detach", 0.0, 10.0, lo_open=True)
+    t_max: float = spec(60.0, "s", "hard limit on simulated time for a run", 0.0, 3600.0, lo_open=True)
+    energy_tolerance: float = spec(0.005, "-", "largest rise of mechanical energy above its running minimum before "
+                                   "'unstable', as a fraction of (m2 + m3)·g·(La + Lb) + the spring's energy "
+                                   "fully bent", 0.0, 1.0, lo_open=True)
+    check_interval: float = spec(0.005, "s", "check energy, health and finiteness this often (at least every runner "
+                                 "step; and every step while the hook is being caught, where penetration peaks)",
+                                 0.0, 1.0, lo_open=True)
+    min_release_height: float = spec(0.01, "m", "a hook letting go lower than this above the next handrail has fallen short", 0.0, 1.0)
+    max_speed: float = spec(20.0, "m/s", "any body faster than this is 'unstable'", 0.0, 1e4, lo_open=True)
+    max_joint_drift: float = spec(1e-3, "m", "a frame skewer, the arm's axle or a pinned hook coming apart by more "
+                                  "than this is 'unstable'", 0.0, 0.1, lo_open=True)
+    max_limit_overshoot_deg: float = spec(5.0, "deg", "a frame or the arm turning past its stopper by more than "
+                                          "this is 'unstable'", 0.0, 90.0, lo_open=True)
+    max_penetration: float = spec(0.8, "-", "the hook sinking into a handrail card deeper than this fraction of "
+                                  "hook_radius + half the card is 'unstable' (at 1 its centre reaches the card's "
+                                  "middle and it tunnels through)", 0.0, 1.0, lo_open=True)
+    trace_every: int = spec(2, "-", "record the trace every this many runner steps", 1, 100000)
+
+
+@dataclass(frozen=True)
+class EnvOptions:
+    """How the design environment treats actions, rewards and rendering."""
+
+    action_out_of_box: str = spec("error", "-", "an action outside [-1, 1]: error names the dimension; clip clips it "
+                                  "(NaN is always an error)", choices=("error", "clip"))
+    reward_shaping: float = spec(0.0, "-", "partial credit for a failed transfer that flew (the hook let go): "
+                                 "reward = traversals + reward_shaping·max(0, 1 - miss_distance/pitch); a hook that "
+                                 "never let go (stalled, no_detach) earns none; 0 = off", 0.0, 0.99)
+    record_trace: bool = spec(False, "-", "keep each step's time series (angles, speeds, energy every sim.trace_every "
+                              "steps) in env.unwrapped.last_run.trace; off: last_run holds the summary only")
+    render_width: int = spec(720, "px", "width of rendered frames", 64, 4096)
+    render_height: int = spec(300, "px", "height of rendered frames", 64, 4096)
+    render_slowmo: float = spec(4.0, "-", "rendered animations play this many times slower than real time",
+                                0.1, 100.0)
+
+
+SECTIONS = {"design": Design, "scene": Scene, "sim": Sim, "env": EnvOptions}
+
+
+def _check_design(d: Design) -> None:
+    if d.mu_k > d.mu_s:
+        raise ConfigError(f"design.mu_k = {d.mu_k!r}: must not exceed design.mu_s = {d.mu_s!r} "
+                          f"(kinetic friction is at most static), allowed [0, {d.mu_s}]")
+    if not d.alpha_min_deg < d.alpha_max_deg:
+        raise ConfigError(f"design.alpha_max_deg = {d.alpha_max_deg!r}: must exceed design.alpha_min_deg = "
+                          f"{d.alpha_min_deg!r}, allowed ({d.alpha_min_deg}, 180]")
+    if not 10.0 <= d.stop_angle_deg - d.rest_angle_deg <= 270.0:
+        raise ConfigError(f"design.stop_angle_deg = {d.stop_angle_deg!r}: the frame must be able to turn from "
+                          f"rest_angle_deg = {d.rest_angle_deg!r} by 10 to 270 deg, allowed "
+                          f"[{d.rest_angle_deg + 10}, {d.rest_angle_deg + 270}]")
+    x_max = max(d.La, d.Lb)
+    if abs(d.dT) > d.m1 * GRAVITY * x_max:
+        lim = d.m1 * GRAVITY * x_max
+        raise ConfigError(f"design.dT = {d.dT!r}: the frame's own moment would put its centre of mass beyond its "
+                          f"ends, allowed [{-lim:.3g}, {lim:.3g}] N·m (m1·g·max(La, Lb))")
+    if d.coin_offset > d.torso_length:
+        raise ConfigError(f"design.coin_offset = {d.coin_offset!r}: the coins sit on the torso card, allowed "
+                          f"[0, {d.torso_length}] m (design.torso_length)")
+    parts = d.arm_mass + d.coin_mass + d.handrail_mass
+    if parts >= d.m2:
+        hi = Design.__dataclass_fields__["m2"].metadata["hi"]
+        raise ConfigError(f"design.m2 = {d.m2!r}: must exceed its listed parts arm_mass + coin_mass + handrail_mass "
+                          f"= {parts:.6g} kg (the torso card is the rest), allowed ({parts:.6g}, {hi:g}] kg")
+
+
+def _check_sim(s: Sim) -> None:
+    step = s.dt * s.substeps  # the pymunk runner samples contact once per runner step (reduced finds events exactly)
+    if s.model == "mbd" and s.contact_hold < 5 * step:
+        raise ConfigError(f"sim.contact_hold = {s.contact_hold!r}: must span at least 5 runner steps of sim.dt = "
+                          f"{s.dt!r} x sim.substeps = {s.substeps} to tell a detach from a bounce, allowed "
+                          f"[{5 * step:.3g}, 1.0] s")
+
+
+def real_field(key: Any, where: str) -> dataclasses.Field:
+    """The declaration of a real-valued ``design.*`` or ``scene.*`` field, or a ConfigError naming ``where``."""
+    sec, _, name = str(key).partition(".")
+    cls = {"design": Design, "scene": Scene}.get(sec)
+    known = {f.name: f for f in fields(cls)} if cls else {}
+    f = known.get(name)
+    if f is None or f.type not in (float, "float"):
+        choices = real_keys()
+        hint = did_you_mean(key, choices) or f" (aero-env schema lists the {len(choices)} of them)"
+        raise ConfigError(f"{where} = {key!r}: not a real-valued design or scene field{hint}")
+    return f
+
+
+def real_keys() -> list[str]:
+    """Every real-valued ``design.*`` and ``scene.*`` key (what tunable, context and tolerance entries name)."""
+    return [f"design.{f.name}" for f in fields(Design) if f.type in (float, "float")] + \
+        [f"scene.{f.name}" for f in fields(Scene) if f.type in (float, "float")]

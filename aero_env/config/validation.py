@@ -1,0 +1,131 @@
+"""Checking one config value against its declaration, and the error messages that name it.
+
+:class:`ConfigError` is what every bad config raises; ``_check_value`` reads a value (with or
+without its unit) and checks its type and range; ``_build`` checks a mapping into a section.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+import math
+from dataclasses import fields
+from typing import Any, Mapping
+
+from .. import quantities
+
+
+class ConfigError(ValueError):
+    """A config value is missing, unknown, of the wrong type or out of range."""
+
+
+ConfigError.__module__ = "aero_env.config"  # tracebacks (and the docs quoting them) name it where it is imported from
+
+
+def _check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
+    meta = f.metadata
+    typ = f.type if isinstance(f.type, type) else {"float": float, "int": int, "bool": bool, "str": str}.get(f.type)
+    if typ is bool:
+        if not isinstance(value, bool):
+            raise ConfigError(f"{path} = {value!r}: must be true or false")
+        return value
+    if typ is str:
+        if not isinstance(value, str) or (meta["choices"] and value not in meta["choices"]):
+            raise ConfigError(f"{path} = {value!r}: must be one of {list(meta['choices'])}")
+        return value
+    raw = value
+    value, plain = _with_unit(path, value, meta["unit"])
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        units = quantities.units_for(meta["unit"])
+        with_units = f", optionally with a unit ({', '.join(units)})" if len(units) > 1 else ""
+        raise ConfigError(f"{path} = {value!r}: must be a number ({typ.__name__}) in {_range_text(meta)}{with_units}")
+    shown = repr(value) if plain else f"{raw!r} (= {value:.6g} {meta['unit']})"
+    if typ is int:
+        if isinstance(value, float) and not value.is_integer():
+            raise ConfigError(f"{path} = {shown}: must be a whole number in {_range_text(meta)}")
+        value = int(value)
+    else:
+        value = float(value)
+    if plain:
+        shown = repr(value)
+    if not math.isfinite(value):
+        raise ConfigError(f"{path} = {shown}: must be finite, in {_range_text(meta)}")
+    if not _in_range(meta, value):
+        hint = quantities.smaller_unit_hint(value, meta["unit"], lambda v: _in_range(meta, v)) if plain else ""
+        raise ConfigError(f"{path} = {shown}: out of range, allowed {_range_text(meta)}{hint}")
+    return value
+
+
+def _in_range(meta: Mapping[str, Any], value: float) -> bool:
+    lo, hi = meta["lo"], meta["hi"]
+    if lo is not None and (value < lo or (meta["lo_open"] and value == lo)):
+        return False
+    return hi is None or value <= hi
+
+
+def _with_unit(path: str, value: Any, unit: str) -> tuple[Any, bool]:
+    """``value`` as a number in ``unit`` when it is a string that spells one (``"7.71 g"``, or ``"1e-9"``,
+    which YAML 1.1 reads as a string), and whether it was a plain number (no unit named)."""
+    if not isinstance(value, str):
+        return value, True
+    try:
+        number = quantities.parse(value, unit)
+    except quantities.UnitError as exc:
+        raise ConfigError(f"{path} = {value!r}: {exc}") from None
+    if number is None:
+        return value, True
+    try:
+        float(value)
+        return number, True
+    except ValueError:
+        return number, False
+
+
+def _range_text(meta: Mapping[str, Any]) -> str:
+    lo, hi, unit = meta["lo"], meta["hi"], meta["unit"]
+    left = "(" if meta["lo_open"] else "["
+    u = f" {unit}" if unit and unit != "-" else ""
+    return f"{left}{lo}, {hi}]{u}"
+
+
+def did_you_mean(name: Any, candidates, prefix: str = "") -> str:
+    """"; did you mean PREFIXkey?" naming the candidate closest to ``name`` (difflib; case ignored), or ""."""
+    by_lower: dict[str, str] = {}
+    for c in candidates:
+        by_lower.setdefault(str(c).lower(), str(c))
+    text = str(name).lower()
+    if text in by_lower:
+        return f"; did you mean {prefix}{by_lower[text]}?"
+    close = difflib.get_close_matches(text, list(by_lower), n=1, cutoff=0.6)
+    return f"; did you mean {prefix}{by_lower[close[0]]}?" if close else ""
+
+
+def _unknown_key(where: str, name: Any, known, prefix: str = "") -> ConfigError:
+    """An unknown key: the closest known one, else the keys themselves when few, else where to find them."""
+    known = sorted(map(str, known))
+    hint = did_you_mean(name, known, prefix)
+    if not hint:
+        hint = (f"; allowed keys are {known}" if len(known) <= 8 else
+                f"; none is close among its {len(known)} keys (aero-env schema lists them)")
+    return ConfigError(f"{where}: unknown key{hint}")
+
+
+def _build(cls, data: Any, path: str):
+    if data is None:
+        data = {}
+    if not isinstance(data, Mapping):
+        raise ConfigError(f"{path}: must be a mapping of keys to values, got {data!r}")
+    known = {f.name: f for f in fields(cls)}
+    unknown = sorted(map(str, set(data) - set(known)))
+    if unknown:
+        raise _unknown_key(f"{path}.{unknown[0]}", unknown[0], known, f"{path}.")
+    kwargs = {}
+    for name, f in known.items():
+        if name not in data:
+            continue
+        sub = f.default_factory if f.default_factory is not dataclasses.MISSING else None
+        if sub is not None and dataclasses.is_dataclass(sub):
+            kwargs[name] = _build(sub, data[name], f"{path}.{name}")
+        else:
+            kwargs[name] = _check_value(f"{path}.{name}", f, data[name])
+    return cls(**kwargs)
