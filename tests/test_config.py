@@ -57,15 +57,15 @@ def test_cli_override_values_are_parsed_as_yaml():
     ({"design.mu_k": 0.6}, ["design.mu_k = 0.6", "must not exceed design.mu_s = 0.542", "[0, 0.542]"]),
     ({"design.alpha_max_deg": 50.0}, ["design.alpha_max_deg = 50.0", "must exceed design.alpha_min_deg = 60"]),
     ({"design.stop_angle_deg": 60.0}, ["design.stop_angle_deg = 60.0", "rest_angle_deg = 55", "[65.0, 325.0]"]),
-    ({"design.arm_mass": 0.01}, ["design.m2 = 0.00771", "arm_mass + coin_mass + handrail_mass = 0.01421",
-                                 "(0.01421, 0.1] kg"]),
+    ({"design.arm_mass": 0.01}, ["design.m2 = 0.00771", "design.arm_mass = 0.01 + design.coin_mass = 0.004",
+                                 "= 0.01421 kg", "(0.01421, 0.1] kg"]),
     ({"sim.dt": 0.5}, ["sim.dt = 0.5", "out of range", "(0.0, 0.01] s"]),
-    ({"design.coin_offset": 0.09}, ["design.coin_offset = 0.09", "on the torso card", "[0, 0.0874] m"]),
+    ({"design.coin_offset": 0.09}, ["design.coin_offset = 0.09", "design.torso_length = 0.0874", "[0, 0.0874] m"]),
     ({"physics.dt": 0.001}, ["physics.dt", "must start with one of"]),
     ({"sim.dt": 0.01}, ["sim.contact_hold = 0.01", "5 runner steps", "[0.05, 1.0] s"]),
         ({"sim.dt": 0.001, "sim.substeps": 4}, ["sim.contact_hold = 0.01", "sim.substeps = 4", "[0.02, 1.0] s"]),
         ({"sim.fidelity": "exact"}, ["sim.fidelity = 'exact'", "reduced", "reference"]),
-    ({"design.dT": 0.05}, ["design.dT = 0.05", "beyond its ends", "N·m"]),
+    ({"design.dT": 0.05}, ["design.dT = 0.05", "beyond its ends", "N·m", "design.m1 = 0.004"]),
 ])
 def test_bad_values_name_key_value_and_range(overrides, needles):
     with pytest.raises(ConfigError) as exc:

@@ -188,21 +188,23 @@ def _check_design(d: Design) -> None:
                           f"{d.alpha_min_deg!r}, allowed ({d.alpha_min_deg}, 180]")
     if not 10.0 <= d.stop_angle_deg - d.rest_angle_deg <= 270.0:
         raise ConfigError(f"design.stop_angle_deg = {d.stop_angle_deg!r}: the frame must be able to turn from "
-                          f"rest_angle_deg = {d.rest_angle_deg!r} by 10 to 270 deg, allowed "
+                          f"design.rest_angle_deg = {d.rest_angle_deg!r} by 10 to 270 deg, allowed "
                           f"[{d.rest_angle_deg + 10}, {d.rest_angle_deg + 270}]")
     x_max = max(d.La, d.Lb)
     if abs(d.dT) > d.m1 * GRAVITY * x_max:
         lim = d.m1 * GRAVITY * x_max
         raise ConfigError(f"design.dT = {d.dT!r}: the frame's own moment would put its centre of mass beyond its "
-                          f"ends, allowed [{-lim:.3g}, {lim:.3g}] N·m (m1·g·max(La, Lb))")
+                          f"ends, allowed [{-lim:.3g}, {lim:.3g}] N·m (m1·g·max(La, Lb) with design.m1 = {d.m1!r}, "
+                          f"design.La = {d.La!r}, design.Lb = {d.Lb!r})")
     if d.coin_offset > d.torso_length:
-        raise ConfigError(f"design.coin_offset = {d.coin_offset!r}: the coins sit on the torso card, allowed "
-                          f"[0, {d.torso_length}] m (design.torso_length)")
+        raise ConfigError(f"design.coin_offset = {d.coin_offset!r}: the coins sit on the torso card of "
+                          f"design.torso_length = {d.torso_length!r}, allowed [0, {d.torso_length}] m")
     parts = d.arm_mass + d.coin_mass + d.handrail_mass
     if parts >= d.m2:
         hi = Design.__dataclass_fields__["m2"].metadata["hi"]
-        raise ConfigError(f"design.m2 = {d.m2!r}: must exceed its listed parts arm_mass + coin_mass + handrail_mass "
-                          f"= {parts:.6g} kg (the torso card is the rest), allowed ({parts:.6g}, {hi:g}] kg")
+        raise ConfigError(f"design.m2 = {d.m2!r}: must exceed its listed parts design.arm_mass = {d.arm_mass!r} + "
+                          f"design.coin_mass = {d.coin_mass!r} + design.handrail_mass = {d.handrail_mass!r} = "
+                          f"{parts:.6g} kg (the torso card is the rest), allowed ({parts:.6g}, {hi:g}] kg")
 
 
 def _check_sim(s: Sim) -> None:
