@@ -81,7 +81,7 @@ import numpy as np
 
 from ...config import Config, ConfigError, real_field
 
-_KERNEL_FILES = ("layout.py", "constants.py", "hooked_dynamics.py", "transitions.py", "impacts.py",
+_KERNEL_FILES = ("jit.py", "layout.py", "constants.py", "hooked_dynamics.py", "transitions.py", "impacts.py",
                  "hooked_phase.py", "catch.py", "flight.py", "run.py")
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .jit import kernel
 
 from ... import units
 from .hooked_dynamics import (com_velocity_from_hook, hook_from_com, hook_on_frame, solve_hooked, stick_eval,
@@ -22,7 +22,7 @@ from .transitions import finish, start_swing
 G = units.GRAVITY
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def catch(p, x, out, sw, t_c, t1, gap, frames):
     """The hook reached the seat of frame fi + 1 at t_c (x holds the robot's angles and rates then): the inelastic
     catch, then the hooked motion to t1, or the end of the row."""

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .jit import kernel
 
 from ... import units
 from .catch import catch
@@ -27,7 +27,7 @@ from .transitions import finish, parked_energy, track_energy
 G = units.GRAVITY
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def flight_accel(p, arm_held, pa, pt, wa, wt):
     """Accelerations of (phi_a, phi_t) in flight, and the arm stop's load (generalised force on alpha)."""
     c, s = math.cos(pa - pt), math.sin(pa - pt)
@@ -45,7 +45,7 @@ def flight_accel(p, arm_held, pa, pt, wa, wt):
     return x0, x1, b1 - kc * x0 - Kt * x1
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def flight_rk4(p, arm_held, pa, pt, wa, wt, dt):
     """One RK4 step of the arm and torso about the centre of mass; the stop's load at the step's start."""
     h = 0.5 * dt
@@ -61,7 +61,7 @@ def flight_rk4(p, arm_held, pa, pt, wa, wt, dt):
             wa + k6 * (a0 + 2.0 * b0 + 2.0 * c0 + d0), wt + k6 * (a1 + 2.0 * b1 + 2.0 * c1 + d1), lam)
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def fall_end(p, x):
     """When the runner would end a decided transfer: the centre of mass below the floor, or the flight timeout."""
     r = p[P.rise] / p[P.pitch]
@@ -72,7 +72,7 @@ def fall_end(p, x):
     return min(x[X.t0f] + tau, x[X.t_rel] + p[P.flight_timeout])
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def classify_miss(p, x, out, t_end):
     """The runner's _classify_miss, in its order."""
     a_rel, nan = x[X.a_rel], math.nan
@@ -92,7 +92,7 @@ def classify_miss(p, x, out, t_end):
         finish(x, out, R_AHEAD, t_end, x[X.dx_cross], nan)
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def arm_stop_in_flight(p, x, pa, pt, wa, wt):
     """The arm past a stop in flight: an inelastic impact about the centre of mass. Returns the new state."""
     alpha = pa - pt - math.pi
@@ -113,7 +113,7 @@ def arm_stop_in_flight(p, x, pa, pt, wa, wt):
 NO_CATCH, CAUGHT, GRAZED = 0, 1, 2  # seat_reached's verdicts
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def cap_entry(ex, ey, r, dx0, dy0, dx1, dy1):
     """The fraction of the step at which the path (dx0, dy0) -> (dx1, dy1) first comes within r of (ex, ey),
     or 2.0 if it does not (a card's rounded end: the hook's centre cannot come closer than the clearance)."""
@@ -129,7 +129,7 @@ def cap_entry(ex, ey, r, dx0, dy0, dx1, dy1):
     return lam if 0.0 <= lam <= 1.0 else 2.0
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def seat_reached(p, dx0, dy0, dx1, dy1, dt):
     """Inside the next notch's mouth, the hook's centre moved from (dx0, dy0) to (dx1, dy1) (from the seat) in dt:
     did it reach the seat? Returns (verdict, fraction of the step, distance from the seat there).
@@ -184,7 +184,7 @@ def seat_reached(p, dx0, dy0, dx1, dy1, dt):
     return CAUGHT, first, gap
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def flight_stage(p, x, out, sw, t, dt, frames, detail, parked):
     """Advance a flying design from t to t + dt: the arm's motion, the hook's path, the catch or the miss."""
     if x[X.t0f] > t:  # released at the end of this step's hooked part: it flies from the next step

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .jit import kernel
 
 from ... import units
 from .constants import PIVOT_SLIP_RATE, S_CORNER
@@ -26,12 +26,12 @@ from .layout import P, X
 G = units.GRAVITY
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def clip(v, lo, hi):
     return min(max(v, lo), hi)
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def spring_torque(p, da):
     """The leaf spring's torque pushing alpha back toward alpha_min: k·da (linear), k/2·da·|da| (stiffening)."""
     if p[P.stiff] > 0.0:
@@ -39,26 +39,26 @@ def spring_torque(p, da):
     return p[P.k] * da
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def spring_energy(p, da):
     if p[P.stiff] > 0.0:
         return p[P.k] * abs(da) ** 3 / 6.0
     return 0.5 * p[P.k] * da * da
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def skewer_friction(p, w1):
     """The regularised dry friction of the skewer in the frame's hole, on theta1 (DRY_FRICTION_RATE)."""
     return -clip(p[P.pf_c] * w1, -p[P.pf], p[P.pf])
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def axle_friction(p, w_alpha):
     """The regularised dry friction of the arm's axle, on alpha (+ on phi_a, - on phi_t)."""
     return -clip(p[P.af_c] * w_alpha, -p[P.af], p[P.af])
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def hook_on_frame(p, x):
     """The hook's place in the frame's coordinates (seat + s·u) and the frame's inertia about its axis with the
     robot's mass there: M00 of the hooked system."""
@@ -67,7 +67,7 @@ def hook_on_frame(p, x):
     return px, py, p[P.If] + p[P.m] * (px * px + py * py)
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def solve_hooked(A, B, C, D, E, F, r0, r1, r2, frame_held, arm_held):
     """Solve the sticking hook's [[A, D, E], [D, B, F], [E, F, C]]·q = r over (theta1, phi_a, phi_t) by cofactors,
     a held stop projecting its coordinate out: the frame's (q0 = 0), the arm's (J = (0, 1, -1)), or both (only the
@@ -91,7 +91,7 @@ def solve_hooked(A, B, C, D, E, F, r0, r1, r2, frame_held, arm_held):
     return x0, x1, x2
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt):
     """Accelerations (theta1, phi_a, phi_t) of a design whose hook sticks (s fixed), and the handrail's force on
     the hook (Fx, Fy), the stops' loads (lam1 frame, lamA arm) and the frame's cos/sin. The 3x3 mass matrix is
@@ -127,7 +127,7 @@ def stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt):
     return x0, x1, x2, Fx, Fy, lam1, lamA, c1, s1
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def stick_step(p, x, px, py, A, dt, a0, a1, a2):
     """One classical RK4 step of a sticking design from its state, (a0, a1, a2) the accelerations at its start.
     Returns the new (theta1, phi_a, phi_t, w1, wa, wt)."""
@@ -148,7 +148,7 @@ def stick_step(p, x, px, py, A, dt, a0, a1, a2):
             wa + k6 * (a1 + 2.0 * (b1 + c1) + d1), wt + k6 * (a2 + 2.0 * (b2 + c2) + d2))
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def slide_eval(p, x, th1, s, pa, pt, w1, ws, wa, wt):
     """Accelerations (theta1, s, phi_a, phi_t) of a design whose hook slides along a face, and the face's normal
     force N and the stops' loads. The s row carries the kinetic friction -mu_k·N·sig with N linear in the
@@ -217,7 +217,7 @@ def slide_eval(p, x, th1, s, pa, pt, w1, ws, wa, wt):
     return x0, xs, x1, x2, N, lam1, lamA
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def slide_step(p, x, dt, a0, a1, a2, a3):
     """One classical RK4 step of a sliding design. Returns the new (theta1, s, phi_a, phi_t, w1, ws, wa, wt)."""
     y0, y1, y2, y3 = x[X.th1], x[X.s], x[X.pa], x[X.pt]
@@ -236,12 +236,12 @@ def slide_step(p, x, dt, a0, a1, a2, a3):
             v2 + k6 * (a2 + 2.0 * (b2 + c2) + d2), v3 + k6 * (a3 + 2.0 * (b3 + c3) + d3))
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def wrap(a):
     return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def friction_cone(p, s, face, Fx, Fy, c1, s1, phi):
     """Where the handrail's force (or impulse) (Fx, Fy) on the hook falls against the notch's friction cones.
 
@@ -265,7 +265,7 @@ def friction_cone(p, s, face, Fx, Fy, c1, s1, phi):
     return tensile, abs(rho) > phi and not tensile, face, 1.0 if kappa * rho > 0.0 else -1.0
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def normal_sum(p, x, Fx, Fy, c1, s1, mu):
     """The sum of the faces' normal forces under the joint force F of a sticking hook, for its turning friction.
     In the corner F = sum_i N_i·(n_i + mu·sig·perp(n_i)): each face's normal force plus the friction of the tip
@@ -289,28 +289,28 @@ def normal_sum(p, x, Fx, Fy, c1, s1, mu):
     return nb + nf
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def hook_from_com(p, pa, pt):
     """The hook's position relative to the robot's centre of mass (world)."""
     return (-(p[P.Pa] * math.cos(pa) + p[P.Pt] * math.cos(pt)) / p[P.m],
             -(p[P.Pa] * math.sin(pa) + p[P.Pt] * math.sin(pt)) / p[P.m])
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def com_velocity_from_hook(p, pa, pt, wa, wt):
     """d/dt (centre of mass - hook)."""
     return (-(p[P.Pa] * math.sin(pa) * wa + p[P.Pt] * math.sin(pt) * wt) / p[P.m],
             (p[P.Pa] * math.cos(pa) * wa + p[P.Pt] * math.cos(pt) * wt) / p[P.m])
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def theta2(p, pa, pt):
     """The runner's theta2: the angle of the line from the robot's centre of mass to the hook."""
     hx, hy = hook_from_com(p, pa, pt)
     return math.atan2(hy, hx)
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def hooked_energy(p, x, oy):
     """Mechanical energy (J) of the hooked frame and robot (kinetic, gravitational, spring); oy: the frame axis'
     height."""

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .jit import kernel
 
 from ...results import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG
 from .constants import STALL_WINDOW
@@ -24,7 +24,7 @@ from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_STOP_HOLD, 
 from .transitions import finish, parked_energy, release_hook, start_slide, track_energy
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def stops_let_go(x, lam1, lamA):
     """Free a held stop whose load turned to a pull; True if either did."""
     changed = False
@@ -38,7 +38,7 @@ def stops_let_go(x, lam1, lamA):
     return changed
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
     """A sticking hook's step. Returns False where it did not step (it let go, or started a slide)."""
     px, py, A = hook_on_frame(p, x)
@@ -72,7 +72,7 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def slide_stage(p, x, out, sw, t, dt, detail, parked):
     """A sliding hook's step: kinetic friction along the face; a tensile face lets go."""
     y = (x[X.th1], x[X.s], x[X.pa], x[X.pt], x[X.w1], x[X.ws], x[X.wa], x[X.wt])
@@ -94,7 +94,7 @@ def slide_stage(p, x, out, sw, t, dt, detail, parked):
     hooked_events(p, x, out, sw, t, dt, s_before, True, detail, parked)
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def hooked_events(p, x, out, sw, t, dt, s_before, was_sliding, detail, parked):
     """After a hooked step to t + dt: impacts at the stops, the slide's end, the runner's swing checks."""
     t1 = t + dt
@@ -122,7 +122,7 @@ def hooked_events(p, x, out, sw, t, dt, s_before, was_sliding, detail, parked):
     swing_checks(p, x, out, sw, t1, detail, parked)
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def swing_checks(p, x, out, sw, t1, detail, parked):
     """The runner's checks on a hooked swing at t1 (aero_env.physics.run's rules), and the records."""
     fi = int(x[X.fi])
@@ -176,7 +176,7 @@ def swing_checks(p, x, out, sw, t1, detail, parked):
             finish(x, out, R_BARRIER, x[X.t_catch] + p[P.swing_timeout], nan, nan)
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def hooked_step(p, x, out, sw, t, dt, hold, detail, parked):
     """Advance a hooked design from t to t + dt (a sticking hook that starts to slide slides from t)."""
     stepped = False

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .jit import kernel
 
 from ... import units
 from .constants import S_CORNER
@@ -23,7 +23,7 @@ from .transitions import release_hook, start_slide
 G = units.GRAVITY
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def arm_impact_lifts(p, x, tensile, jv, err, c1, s1, Hx, Hy):
     """For an arm impact whose held impulse would pull on the handrail: does the hook, free, leave the handrail
     for the runner's contact_hold? It leaves with the velocity the free robot's arm impact gives it (about the
@@ -49,7 +49,7 @@ def arm_impact_lifts(p, x, tensile, jv, err, c1, s1, Hx, Hy):
     return lifts, pa - xa * err, pt - xt * err, x[X.wa] + dwa, x[X.wt] + dwt
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def impact(p, x, sw, t1, frame):
     """An inelastic impact at the frame's stops (frame=True) or the arm's, at t1."""
     th1, pa, pt, s = x[X.th1], x[X.pa], x[X.pt], x[X.s]

@@ -18,13 +18,14 @@ from ... import units
 from .flight import flight_stage
 from .hooked_dynamics import hooked_energy, theta2
 from .hooked_phase import hooked_step
+from .jit import allocating
 from .layout import DONE, FLIGHT, HOOKED, N_OUT, N_STATE, N_SWING, R_T_MAX, O, P, W, X
 from .transitions import finish, start_swing
 
 G = units.GRAVITY
 
 
-@njit(cache=True, error_model="numpy")
+@allocating
 def parked_sums(p, frames):
     """The potential energy of each frame parked at its stop (row 0) and at rest (row 1), summed up to each frame."""
     sums = np.zeros((2, frames + 1))
@@ -35,7 +36,7 @@ def parked_sums(p, frames):
     return sums
 
 
-@njit(cache=True, error_model="numpy")
+@allocating
 def start_state(p, x, out, sw):
     """Frame 0 at rest on its stop, the robot hanging from its seat at theta2_start, arm fully bent, at rest."""
     x[:] = 0.0
@@ -63,7 +64,7 @@ def start_state(p, x, out, sw):
     start_swing(p, x, 0.0)
 
 
-@njit(cache=True, error_model="numpy")
+@allocating
 def run_design(p, frames, dt, detail, x, out, sw):
     """Run one design (``p`` its row of constants) to its end; ``out`` and ``sw`` receive its results, ``x`` is
     its working state. ``detail``: also the energy and theta2's range (a single run's SimResult)."""
@@ -92,7 +93,7 @@ def run_batch(table, frames, dt, detail, out, sw):
         run_design(table[i], frames, dt, detail, x, out[i], sw[i])
 
 
-@njit(cache=True, error_model="numpy")
+@allocating
 def run_one(table, frames, dt, detail, out, sw):
     """``run_batch`` on one thread (a single design: no thread pool to wake)."""
     for i in range(table.shape[0]):
@@ -100,7 +101,7 @@ def run_one(table, frames, dt, detail, out, sw):
         run_design(table[i], frames, dt, detail, x, out[i], sw[i])
 
 
-@njit(cache=True, error_model="numpy")
+@allocating
 def trace_first_swing(p, frames, dt, hold, n_steps, samples):
     """Sample the first swing every step into ``samples`` (n_steps + 1, 6): t, theta1, theta2, alpha, omega1,
     energy. With ``hold`` the hook never slips or lets go. Returns how many rows were filled."""

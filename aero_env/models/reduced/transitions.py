@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .jit import kernel
 
 from ... import units
 from ...results import TURN_BACK_DEG
@@ -19,7 +19,7 @@ from .layout import DONE, FLIGHT, O, P, W, X
 G = units.GRAVITY
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def finish(x, out, reason, t_end, v1, v2):
     """End the run with ``reason`` at t_end (v1, v2: the numbers its sentence quotes; NaN where it quotes none)."""
     out[O.reason] = reason
@@ -30,7 +30,7 @@ def finish(x, out, reason, t_end, v1, v2):
     x[X.phase] = DONE
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def track_energy(out, e):
     if math.isnan(out[O.e_first]):
         out[O.e_first] = e
@@ -40,7 +40,7 @@ def track_energy(out, e):
     out[O.e_rise] = max(out[O.e_rise], e - out[O.e_min])
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def parked_energy(parked, fi, left_at_stop):
     """Potential energy of the frames the robot is not on (ahead: at rest; behind: at their stop), from the
     per-frame cumulative sums ``parked`` (row 0 at the stop, row 1 at rest) made at the start."""
@@ -48,7 +48,7 @@ def parked_energy(parked, fi, left_at_stop):
     return parked[0, upto] + parked[1, parked.shape[1] - 1] - parked[1, fi + 1]
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def start_slide(p, x, face, sig):
     """The hook starts sliding along a face (0 back, 1 front) in the sense sig (+1 outward)."""
     x[X.face], x[X.sig], x[X.slide] = face, sig, 1.0
@@ -59,7 +59,7 @@ def start_slide(p, x, face, sig):
         x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ubx], p[P.uby], p[P.nbx], p[P.nby]
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def release_hook(p, x, sw, t_state, t_det):
     """The hook lets go of frame fi: flight from the current state (at time t_state); detach time t_det."""
     fi = int(x[X.fi])
@@ -90,7 +90,7 @@ def release_hook(p, x, sw, t_state, t_det):
     sw[W.alpha_detach, fi] = math.degrees(alpha)
 
 
-@njit(cache=True, error_model="numpy")
+@kernel
 def start_swing(p, x, t):
     """Bookkeeping at a catch (or the start): the peak, and whether the frame can climb TURN_BACK_DEG above its
     rest at all with the energy it has, the robot hanging at its lowest (the stall test, STALL_WINDOW)."""
