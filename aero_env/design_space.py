@@ -143,14 +143,21 @@ class DesignSpace:
                 obs[i] = 2.0 * (draw.context[c.name] - c.low) / (c.high - c.low) - 1.0
         return obs
 
-    def episode_config(self, design: Mapping[str, float], draw: Draw) -> tuple[Config, dict]:
-        """The config to simulate, and the fields the tolerances changed (as built, SI)."""
+    def episode_values(self, design: Mapping[str, float], draw: Draw) -> tuple[dict, dict]:
+        """Every field the episode sets (dotted keys, SI: the drawn context, the design, the tolerances as
+        built), and the fields the tolerances changed. The reduced model runs these without a Config
+        (:func:`aero_env.models.reduced.simulate_designs`); :meth:`episode_config` builds one from them."""
         values = {**draw.context, **design}
         built = {}
         for t, u in zip(self.tolerances, draw.tolerance_u):
             v = values.get(t.name, self.cfg.value(t.name))
             built[t.name] = v * (1.0 + t.relative * u) + t.absolute * u
-        return self.cfg.with_values({**values, **built}), built
+        return {**values, **built}, built
+
+    def episode_config(self, design: Mapping[str, float], draw: Draw) -> tuple[Config, dict]:
+        """The config to simulate, and the fields the tolerances changed (as built, SI)."""
+        values, built = self.episode_values(design, draw)
+        return self.cfg.with_values(values), built
 
     # ---- validation ----
     def _check_corners(self) -> None:

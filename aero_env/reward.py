@@ -18,13 +18,13 @@ This module depends only on the result's fields and the config (not on an engine
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
 
 from .config import Config, ConfigError
 
-__all__ = ["reward", "rewards", "batch_reward"]
+__all__ = ["reward", "rewards", "batch_reward", "designs_reward"]
 
 
 def rewards(outcome, traversals, flew, miss_distance, pitch, shaping) -> np.ndarray:
@@ -65,3 +65,13 @@ def batch_reward(batch, cfgs: Sequence[Config]) -> np.ndarray:
     pitch = np.array([c.scene.pitch for c in cfgs], dtype=float)
     w = np.array([c.env.reward_shaping for c in cfgs], dtype=float)
     return rewards(batch.outcome, batch.traversals, batch.flew, batch.miss_distance, pitch, w)
+
+
+def designs_reward(batch, base: Config, designs: Sequence[Mapping[str, float]]) -> np.ndarray:
+    """The reward of each run of a reduced-model batch of ``designs`` set on ``base``
+    (:func:`aero_env.models.reduced.simulate_designs`): :func:`batch_reward` of the configs they would build."""
+    if len(designs) != len(batch):
+        raise ConfigError(f"designs_reward: {len(designs)} designs for a batch of {len(batch)} runs; pass the designs "
+                          f"the batch ran, in order")
+    pitch = np.array([d.get("scene.pitch", base.scene.pitch) for d in designs], dtype=float)
+    return rewards(batch.outcome, batch.traversals, batch.flew, batch.miss_distance, pitch, base.env.reward_shaping)

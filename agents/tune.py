@@ -204,7 +204,7 @@ def screen(cfg: Config, settings: TuneSettings) -> dict:
     ``env.step`` would pay at that fidelity, so the screen ranks by the study's own objective."""
     from gymnasium.utils import seeding
 
-    from aero_env.reward import batch_reward, reward, rewards
+    from aero_env.reward import reward
     from aero_env.simulation import simulate
 
     t0 = time.perf_counter()
@@ -216,17 +216,10 @@ def screen(cfg: Config, settings: TuneSettings) -> dict:
     draws = [space.draw(seeding.np_random(s)[0]) for s in seeds]  # what env.reset(seed=s) draws
     values = [space.values(a) for a in actions]
     if cheap.sim.model == "reduced":
-        from aero_env.models.reduced import READ_KEYS, simulate_batch, simulate_values
+        from aero_env.envs.aerial_acrobat_vector import reduced_batch
 
-        if not space.draws_anything and set(values[0]) <= READ_KEYS:
-            # no Config per design: the values go in as arrays, checked as with_values checks them (the same runs)
-            arrays = {k: np.array([v[k] for v in values]) for k in values[0]}
-            batch = simulate_values(cheap, arrays)
-            paid = rewards(batch.outcome, batch.traversals, batch.flew, batch.miss_distance,
-                           arrays.get("scene.pitch", cheap.scene.pitch), cheap.env.reward_shaping)
-        else:
-            cfgs = [space.episode_config(v, d)[0] for v in values for d in draws]
-            paid = batch_reward(simulate_batch(cfgs), cfgs)
+        # one batch of every (design, draw) episode, without a Config per design where the model reads every field
+        paid = reduced_batch(cheap, [space.episode_values(v, d)[0] for v in values for d in draws])[1]
     else:
         cfgs = [space.episode_config(v, d)[0] for v in values for d in draws]
         paid = np.array([reward(simulate(c), c) for c in cfgs])

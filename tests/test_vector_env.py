@@ -104,6 +104,29 @@ def test_at_reduced_one_batch_equals_single_envs_with_the_same_seeds():
     assert not np.array_equal(a[1][0], a[2][0])  # the autoreset drew new contexts
 
 
+def test_at_reduced_a_field_the_model_does_not_read_takes_the_config_path_and_still_equals_single_envs():
+    # design.Cd (drag) is not read by the reduced model, so its episodes cannot go in as arrays: they are built
+    # as configs (reduced_batch's other path), and every step must still be the single envs'
+    over = {**REDUCED, "tolerance": [{"name": "design.Cd", "relative": 0.2}, {"name": "design.m3", "relative": 0.05}]}
+    fast, slow = _vector(**over, num_envs=5), _single_envs(VARIED_ID, 5, **over)
+    try:
+        actions = _actions(5, 5, 2, slow.envs[0].unwrapped.action_for())
+        a, b = _rollout(fast, actions), _rollout(slow, actions)
+    finally:
+        fast.close(), slow.close()
+    _check_equal_to_single_envs(a, b, BATCH_ONLY_MISSING)
+    built = a[1][4]["final_info"]["as_built"]
+    assert len(set(built["design.Cd"])) == 5 and len(set(built["design.m3"])) == 5  # the tolerances were drawn
+
+
+def test_reduced_batch_refuses_designs_that_set_different_fields():
+    from aero_env.config import Config
+    from aero_env.envs.aerial_acrobat_vector import reduced_batch
+
+    with pytest.raises(ConfigError, match=r"designs\[1\] sets \['design.m3'\], designs\[0\] sets \['design.m2'\]"):
+        reduced_batch(Config(), [{"design.m2": 0.008}, {"design.m3": 0.01}])
+
+
 def test_at_a_pymunk_fidelity_the_vector_env_equals_single_envs_with_the_same_seeds():
     fast, slow = _vector(**MBD_FAST, num_envs=3, workers=1), _single_envs(VARIED_ID, 3, **MBD_FAST)
     try:

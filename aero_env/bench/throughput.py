@@ -5,8 +5,10 @@ runs the same seeded random designs (random designs differ 10x in cost), each ep
 seed ``seed + i`` and one step, and reports the median over ``repeats`` of its wall time:
 
 * ``fidelities``: every rung of the ladder through one single env, one design at a time; at
-  ``reduced`` also the vector env (``vectorization_mode="vector_entry_point"``), ``batch`` designs
-  in one step (one call of the reduced model); at the config's pymunk fidelity (``mbd`` when the
+  ``reduced`` also ``batch`` designs in one call of the model alone on one core (``model batch``:
+  the episodes' values as arrays, what the tuner's screen runs; its ``vs_mbd`` is the per-core
+  ratio of the model's cost), and through the vector env (``vectorization_mode="vector_entry_point"``)
+  in one step, on one core and on all; at the config's pymunk fidelity (``mbd`` when the
   config is at ``reduced``) also the vector env with its process pool over the cores (``pool_workers``
   processes). ``vs_single``: a vector row's designs/s over the single env's at its fidelity;
   ``vs_mbd``: any row's designs/s over the single env's at ``mbd``, both measured in this run.
@@ -21,14 +23,19 @@ Workers share the machine's cores: on two cores two workers can at best double t
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 
 import gymnasium as gym
+import numba
 import numpy as np
+from gymnasium.utils import seeding
 
 from ..config import FIDELITY_PRESETS, Config
+from ..design_space import DesignSpace
 from ..envs import AerialAcrobatEnv, AerialAcrobatVectorEnv
+from ..envs.aerial_acrobat_vector import reduced_batch
 from .designs import check_counts, median_time
 
 BASELINE = "mbd"  # vs_mbd: the default fidelity, the one a user of the env gets
@@ -57,21 +64,53 @@ def _single_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int) -> di
                 designs_per_s=len(actions) / wall, first_call_s=first, mean_reward=float(np.mean(rewards)))
 
 
-def _vector_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int, workers: int | None) -> dict:
-    """The vector env, all designs in one step: reset(seed) gives sub-env i seed + i, as the single rows."""
+@contextlib.contextmanager
+def _threads(n: int | None):
+    """The reduced model's batch on ``n`` threads (None: all), restored after."""
+    before = numba.get_num_threads()
+    numba.set_num_threads(before if n is None else n)
+    try:
+        yield numba.get_num_threads()
+    finally:
+        numba.set_num_threads(before)
+
+
+def _cores(n: int) -> str:
+    return f"{n} core{'s' if n > 1 else ''}"
+
+
+def _vector_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int, workers: int | None,
+                threads: int | None = None) -> dict:
+    """The vector env, all designs in one step: reset(seed) gives sub-env i seed + i, as the single rows. At
+    ``reduced`` its one call runs on ``threads`` cores (None: all)."""
     envs = AerialAcrobatVectorEnv(len(actions), cfg, workers=workers)
     try:
         def run():
             envs.reset(seed=seed)
             return envs.step(actions)[1]
 
-        first = median_time(run, 1)[0]
-        wall, rewards = median_time(run, repeats)
+        with _threads(threads) as cores:
+            first = median_time(run, 1)[0]
+            wall, rewards = median_time(run, repeats)
     finally:
         envs.close()
-    how = "vector env, one call" if envs.reduced else f"vector env, pool of {min(envs.workers, len(actions))}"
+    how = (f"vector env, {_cores(cores)}" if envs.reduced
+           else f"vector env, pool of {min(envs.workers, len(actions))}")
     return dict(name=cfg.sim.fidelity, how=how, designs=len(actions), wall_s=wall, designs_per_s=len(actions) / wall,
                 first_call_s=first, mean_reward=float(np.mean(rewards)))
+
+
+def _model_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int) -> dict:
+    """The reduced model alone on one core: the episodes the vector env's reset(seed) and step(actions) run, as one
+    ``reduced_batch`` call of their values (what the tuner's screen calls), without the env around it."""
+    space = DesignSpace(cfg)
+    episodes = [space.episode_values(space.values(space.check_action(a, cfg.env.action_out_of_box == "clip")),
+                                     space.draw(seeding.np_random(seed + i)[0]))[0] for i, a in enumerate(actions)]
+    with _threads(1) as cores:
+        first = median_time(lambda: reduced_batch(cfg, episodes), 1)[0]
+        wall, (_, rewards) = median_time(lambda: reduced_batch(cfg, episodes), repeats)
+    return dict(name=cfg.sim.fidelity, how=f"model batch, {_cores(cores)}", designs=len(actions), wall_s=wall,
+                designs_per_s=len(actions) / wall, first_call_s=first, mean_reward=float(np.mean(rewards)))
 
 
 def _ratios(rows: list[dict]) -> None:
@@ -89,7 +128,11 @@ def fidelity_rows(cfg: Config, designs: np.ndarray, episodes: int, batch: int, r
     designs in one call) and the pymunk vector env with its pool (``episodes`` designs)."""
     rows = []
     # reduced first, its batch before its single env: the first call of the model (load, compile) is the batch's
-    rows.append(_vector_row(_fidelity(cfg, REDUCED), designs[:batch], repeats, seed, None))
+    low = _fidelity(cfg, REDUCED)
+    rows.append(_model_row(low, designs[:batch], repeats, seed))
+    rows.append(_vector_row(low, designs[:batch], repeats, seed, None, threads=1))
+    if numba.config.NUMBA_NUM_THREADS > 1:
+        rows.append(_vector_row(low, designs[:batch], repeats, seed, None))
     for name in FIDELITY_PRESETS:
         rows.append(_single_row(_fidelity(cfg, name), designs[:episodes], repeats, seed))
     pool_fidelity = cfg.sim.fidelity if cfg.sim.model != REDUCED else BASELINE

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterable, Mapping
@@ -23,11 +24,18 @@ __all__ = ["AerialAcrobatEnv", "Episode", "chosen_design", "plan_episode", "epis
 # ---- the pieces of an episode, shared with the vector env (aerial_acrobat_vector.py) so the two cannot drift ----
 @dataclass(frozen=True)
 class Episode:
-    """What one step simulates: the episode's config, the design the action chose and the fields as built."""
+    """What one step simulates: every field the episode sets on the env's config, the design the action chose and
+    the fields as built."""
 
-    config: Config
+    base: Config  # the env's config
+    values: dict  # every field set (context, design, as built; dotted keys, SI)
     design: dict  # the tunable (and linked) values, SI
     as_built: dict  # the fields the tolerances changed, as simulated, SI
+
+    @functools.cached_property
+    def config(self) -> Config:
+        """The config to simulate, built on first use (the reduced vector env runs ``values`` without one)."""
+        return self.base.with_values(self.values)
 
 
 def chosen_design(space: DesignSpace, action, clip: bool) -> dict[str, float]:
@@ -39,8 +47,8 @@ def chosen_design(space: DesignSpace, action, clip: bool) -> dict[str, float]:
 def plan_episode(space: DesignSpace, draw: Draw, action, clip: bool) -> Episode:
     """The episode ``action`` asks for in the scene of ``draw``."""
     design = chosen_design(space, action, clip)
-    cfg, built = space.episode_config(design, draw)
-    return Episode(cfg, design, built)
+    values, built = space.episode_values(design, draw)
+    return Episode(space.cfg, values, design, built)
 
 
 def reset_info(draw: Draw) -> dict:

@@ -123,7 +123,7 @@ from .params import (DESIGN_KEYS, SCENE_KEYS, check_raw, check_scene, param_tabl
 READ_KEYS = frozenset([f"design.{k}" for k in DESIGN_KEYS] + [f"scene.{k}" for k in SCENE_KEYS])
 
 __all__ = ["BatchResult", "OUTCOMES", "READ_KEYS", "STEP", "compile_kernels", "kernel_cache_dir", "simulate_batch",
-           "simulate_reduced", "simulate_values", "swing_trace"]
+           "simulate_designs", "simulate_reduced", "simulate_values", "swing_trace"]
 
 
 _loaded = False
@@ -208,6 +208,19 @@ def simulate_values(base: Config, values: Mapping[str, np.ndarray], dt: float | 
     check_raw(raw)
     dt = step_for(base) if dt is None else dt
     return _run_table(param_table(raw, dt), base.scene.frames, dt, detail=False)
+
+
+def simulate_designs(base: Config, designs: Sequence[Mapping[str, float]], dt: float | None = None) -> BatchResult:
+    """:func:`simulate_values` of one dict per design (every dict with the same dotted keys, all in
+    :data:`READ_KEYS`): the designs ``base`` with each dict's values set, in order."""
+    if not designs:
+        raise ConfigError("simulate_designs: no designs; pass at least one dict of values")
+    keys = list(designs[0])
+    for i, d in enumerate(designs):
+        if d.keys() != designs[0].keys():
+            raise ConfigError(f"simulate_designs: designs[{i}] sets {sorted(d)}, designs[0] sets {sorted(keys)}; "
+                              f"every design must set the same keys")
+    return simulate_values(base, {k: np.array([d[k] for d in designs], dtype=float) for k in keys}, dt)
 
 
 def simulate_reduced(cfg: Config, dt: float | None = None):
