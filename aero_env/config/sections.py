@@ -8,6 +8,7 @@ between a section's fields, and the real-valued keys that list entries may name.
 from __future__ import annotations
 
 import dataclasses
+import functools
 from dataclasses import dataclass, field, fields
 from typing import Any
 
@@ -215,13 +216,18 @@ def _check_sim(s: Sim) -> None:
                           f"[{5 * step:.3g}, 1.0] s")
 
 
+@functools.cache
+def _real_fields() -> dict[str, dataclasses.Field]:
+    """Every real-valued ``design.*`` and ``scene.*`` field by its dotted key (read once: ``fields()`` costs more
+    than the rest of a ``with_values`` call)."""
+    return {f"{sec}.{f.name}": f for sec, cls in (("design", Design), ("scene", Scene)) for f in fields(cls)
+            if f.type in (float, "float")}
+
+
 def real_field(key: Any, where: str) -> dataclasses.Field:
     """The declaration of a real-valued ``design.*`` or ``scene.*`` field, or a ConfigError naming ``where``."""
-    sec, _, name = str(key).partition(".")
-    cls = {"design": Design, "scene": Scene}.get(sec)
-    known = {f.name: f for f in fields(cls)} if cls else {}
-    f = known.get(name)
-    if f is None or f.type not in (float, "float"):
+    f = _real_fields().get(key) if isinstance(key, str) else None
+    if f is None:
         choices = real_keys()
         hint = did_you_mean(key, choices) or f" (aero-env schema lists the {len(choices)} of them)"
         raise ConfigError(f"{where} = {key!r}: not a real-valued design or scene field{hint}")
@@ -230,5 +236,4 @@ def real_field(key: Any, where: str) -> dataclasses.Field:
 
 def real_keys() -> list[str]:
     """Every real-valued ``design.*`` and ``scene.*`` key (what tunable, context and tolerance entries name)."""
-    return [f"design.{f.name}" for f in fields(Design) if f.type in (float, "float")] + \
-        [f"scene.{f.name}" for f in fields(Scene) if f.type in (float, "float")]
+    return list(_real_fields())
