@@ -119,12 +119,38 @@ def test_at_reduced_a_field_the_model_does_not_read_takes_the_config_path_and_st
     assert len(set(built["design.Cd"])) == 5 and len(set(built["design.m3"])) == 5  # the tolerances were drawn
 
 
-def test_reduced_batch_refuses_designs_that_set_different_fields():
+def test_at_reduced_the_episodes_go_to_the_model_without_a_config_each(monkeypatch):
+    from aero_env.config import Config
+
+    envs = _vector(**REDUCED, num_envs=3)
+    try:
+        envs.reset(seed=SEED)
+        monkeypatch.setattr(Config, "with_values", lambda *a, **k: (_ for _ in ()).throw(AssertionError("built")))
+        _, rewards, *_ = envs.step(_actions(5, 3, 1, np.zeros(5, dtype=np.float32)))
+    finally:
+        envs.close()
+    assert rewards.shape == (3,)
+
+
+def test_reduced_batch_takes_the_config_path_for_mixed_or_no_fields_and_words_errors_as_with_values():
     from aero_env.config import Config
     from aero_env.envs.aerial_acrobat_vector import reduced_batch
+    from aero_env.models.reduced import simulate_batch, simulate_designs
 
+    base = Config().replace({"scene.frames": 2})
+    mixed = [{"design.m2": 0.008}, {"design.m3": 0.009}]
     with pytest.raises(ConfigError, match=r"designs\[1\] sets \['design.m3'\], designs\[0\] sets \['design.m2'\]"):
-        reduced_batch(Config(), [{"design.m2": 0.008}, {"design.m3": 0.01}])
+        simulate_designs(base, mixed)
+    batch, rewards = reduced_batch(base, mixed)  # each its own config, as the single env builds it
+    alone = simulate_batch([base.with_values(e) for e in mixed])
+    assert batch.traversals.tolist() == alone.traversals.tolist() and batch.sim_time.tolist() == alone.sim_time.tolist()
+    assert len(reduced_batch(base, [{}, {}, {}])[1]) == 3  # no field set: the base design three times
+    assert len(simulate_designs(base, [{}, {}, {}])) == 3
+    with pytest.raises(ConfigError, match="no episodes"):
+        reduced_batch(base, [])
+    with pytest.raises(ConfigError) as exc:  # a bad value: the single env's words (key, value, range with unit)
+        reduced_batch(base, [{"design.m2": 0.008}, {"design.m2": 0.5}])
+    assert str(exc.value).startswith("design.m2 = 0.5: out of range") and "kg" in str(exc.value)
 
 
 def test_at_a_pymunk_fidelity_the_vector_env_equals_single_envs_with_the_same_seeds():

@@ -10,7 +10,8 @@ seed ``seed + i`` and one step, and reports the median over ``repeats`` of its w
   ratio of the model's cost), and through the vector env (``vectorization_mode="vector_entry_point"``)
   in one step, on one core and on all; at the config's pymunk fidelity (``mbd`` when the
   config is at ``reduced``) also the vector env with its process pool over the cores (``pool_workers``
-  processes). ``vs_single``: a vector row's designs/s over the single env's at its fidelity;
+  processes). ``vs_single``: a batched row's designs/s over the single env's at its fidelity (the batch
+  runs ``batch`` designs, the single env the first ``episodes`` of them);
   ``vs_mbd``: any row's designs/s over the single env's at ``mbd``, both measured in this run.
   ``first_call_s``: a row's first call, made untimed before its timed ones (at ``reduced`` it loads or
   compiles the model; for the pool it starts the workers): never inside a timed figure.
@@ -35,6 +36,7 @@ from gymnasium.utils import seeding
 from ..config import FIDELITY_PRESETS, Config
 from ..design_space import DesignSpace
 from ..envs import AerialAcrobatEnv, AerialAcrobatVectorEnv
+from ..envs.aerial_acrobat import plan_episode
 from ..envs.aerial_acrobat_vector import reduced_batch
 from .designs import check_counts, median_time
 
@@ -103,9 +105,9 @@ def _vector_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int, worke
 def _model_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int) -> dict:
     """The reduced model alone on one core: the episodes the vector env's reset(seed) and step(actions) run, as one
     ``reduced_batch`` call of their values (what the tuner's screen calls), without the env around it."""
-    space = DesignSpace(cfg)
-    episodes = [space.episode_values(space.values(space.check_action(a, cfg.env.action_out_of_box == "clip")),
-                                     space.draw(seeding.np_random(seed + i)[0]))[0] for i, a in enumerate(actions)]
+    space, clip = DesignSpace(cfg), cfg.env.action_out_of_box == "clip"
+    episodes = [plan_episode(space, space.draw(seeding.np_random(seed + i)[0]), a, clip).values
+                for i, a in enumerate(actions)]
     with _threads(1) as cores:
         first = median_time(lambda: reduced_batch(cfg, episodes), 1)[0]
         wall, (_, rewards) = median_time(lambda: reduced_batch(cfg, episodes), repeats)
@@ -131,7 +133,7 @@ def fidelity_rows(cfg: Config, designs: np.ndarray, episodes: int, batch: int, r
     low = _fidelity(cfg, REDUCED)
     rows.append(_model_row(low, designs[:batch], repeats, seed))
     rows.append(_vector_row(low, designs[:batch], repeats, seed, None, threads=1))
-    if numba.config.NUMBA_NUM_THREADS > 1:
+    if numba.get_num_threads() > 1:
         rows.append(_vector_row(low, designs[:batch], repeats, seed, None))
     for name in FIDELITY_PRESETS:
         rows.append(_single_row(_fidelity(cfg, name), designs[:episodes], repeats, seed))

@@ -10,7 +10,8 @@ from __future__ import annotations
 import dataclasses
 import functools
 from dataclasses import dataclass, field, fields
-from typing import Any
+from types import MappingProxyType
+from typing import Any, Mapping
 
 from ..units import GRAVITY
 from .validation import ConfigError, did_you_mean
@@ -217,11 +218,11 @@ def _check_sim(s: Sim) -> None:
 
 
 @functools.cache
-def _real_fields() -> dict[str, dataclasses.Field]:
+def _real_fields() -> Mapping[str, dataclasses.Field]:
     """Every real-valued ``design.*`` and ``scene.*`` field by its dotted key (read once: ``fields()`` costs more
     than the rest of a ``with_values`` call)."""
-    return {f"{sec}.{f.name}": f for sec, cls in (("design", Design), ("scene", Scene)) for f in fields(cls)
-            if f.type in (float, "float")}
+    return MappingProxyType({f"{sec}.{f.name}": f for sec, cls in (("design", Design), ("scene", Scene))
+                             for f in fields(cls) if f.type in (float, "float")})
 
 
 def real_field(key: Any, where: str) -> dataclasses.Field:

@@ -32,13 +32,21 @@ POOL_START_METHOD = "spawn"
 
 def reduced_batch(base: Config, episodes: Sequence[Mapping[str, float]]):
     """One call of the reduced model for episodes given as the fields each sets on ``base``
-    (:meth:`DesignSpace.episode_values`), and their rewards: the values go in as arrays where the model reads
-    every field they set (no Config per design; the same runs), else as the configs they build."""
+    (:meth:`DesignSpace.episode_values`), and their rewards. Where every episode sets the same fields and the model
+    reads all of them, the values go in as arrays (no Config per design; the same runs); otherwise, and to word
+    a bad value as ``Config.with_values`` does (the key, the value with its unit, the range), as the configs they
+    build."""
     from ..models.reduced import READ_KEYS, simulate_batch, simulate_designs
 
-    if set(episodes[0]) <= READ_KEYS:
-        batch = simulate_designs(base, episodes)
-        return batch, designs_reward(batch, base, episodes).astype(np.float64)
+    if not episodes:
+        raise ConfigError("reduced_batch: no episodes; pass at least one dict of the fields an episode sets")
+    keys = episodes[0].keys()
+    if keys and set(keys) <= READ_KEYS and all(e.keys() == keys for e in episodes):
+        try:
+            batch = simulate_designs(base, episodes)
+            return batch, designs_reward(batch, base, episodes).astype(np.float64)
+        except (ConfigError, TypeError, ValueError):
+            pass  # the configs below raise the same refusal in with_values' words
     cfgs = [base.with_values(e) for e in episodes]
     batch = simulate_batch(cfgs)
     return batch, batch_reward(batch, cfgs).astype(np.float64)

@@ -216,6 +216,8 @@ def simulate_designs(base: Config, designs: Sequence[Mapping[str, float]], dt: f
     if not designs:
         raise ConfigError("simulate_designs: no designs; pass at least one dict of values")
     keys = list(designs[0])
+    if not keys and all(not d for d in designs):  # nothing set: the base design, once per entry
+        return simulate_batch([base] * len(designs), dt)
     for i, d in enumerate(designs):
         if d.keys() != designs[0].keys():
             raise ConfigError(f"simulate_designs: designs[{i}] sets {sorted(d)}, designs[0] sets {sorted(keys)}; "
