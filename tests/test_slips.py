@@ -255,19 +255,24 @@ def test_real_ctrl_c_in_tune_ends_with_one_line(tmp_path):
     proc = subprocess.Popen([sys.executable, "-m", "aero_env.cli", "tune", str(PAPER), "--set", "scene.frames=3",
                              "--sampler", "random", "--trials", "100000", "--no-progress", "--storage",
                              f"sqlite:///{db}", "--study", "s"], cwd=tmp_path, stderr=subprocess.PIPE, text=True)
-    deadline = time.time() + 120
-    done = 0
-    while time.time() < deadline and done < 2:
-        time.sleep(0.5)
-        if db.exists():
-            try:
-                with sqlite3.connect(db) as con:
-                    done = con.execute("select count(*) from trials where state = 'COMPLETE'").fetchone()[0]
-            except sqlite3.Error:
-                pass
-    assert done >= 2, "the study never finished two trials"
-    proc.send_signal(signal.SIGINT)
-    err = proc.communicate(timeout=120)[1]
+    try:  # a failed wait must not leave a 100,000-trial study running for the rest of the suite
+        deadline = time.time() + 120
+        done = 0
+        while time.time() < deadline and done < 2:
+            time.sleep(0.5)
+            if db.exists():
+                try:
+                    with sqlite3.connect(db) as con:
+                        done = con.execute("select count(*) from trials where state = 'COMPLETE'").fetchone()[0]
+                except sqlite3.Error:
+                    pass
+        assert done >= 2, "the study never finished two trials"
+        proc.send_signal(signal.SIGINT)
+        err = proc.communicate(timeout=120)[1]
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
     assert proc.returncode == 130, err
     lines = [ln for ln in err.splitlines() if ln.strip()]
     assert len(lines) == 1 and "Traceback" not in err, err
