@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -81,14 +82,11 @@ def test_the_compiled_code_is_cached_on_disk_in_a_folder_keyed_on_its_source(tmp
     monkeypatch.setenv("AERO_ENV_CACHE", str(tmp_path))
     assert reduced.kernel_cache_dir().parent == tmp_path / "numba"
     assert reduced.kernel_cache_dir().name == cache.name
-    src = Path(reduced.__file__).parent / "constants.py"
-    text = src.read_text()
-    try:
-        src.write_text(text + "\n")
-        edited = reduced.kernel_cache_dir().name
-    finally:
-        src.write_text(text)
-    assert edited != cache.name and reduced.kernel_cache_dir().name == cache.name
+    copy = tmp_path / "source"  # a copy of the kernel files, one edited: the source tree is never touched
+    shutil.copytree(Path(reduced.__file__).parent, copy)
+    assert reduced.kernel_cache_dir(copy).name == cache.name
+    (copy / "constants.py").write_text((copy / "constants.py").read_text() + "\n")
+    assert reduced.kernel_cache_dir(copy).name != cache.name
 
 
 def test_compile_kernels_reports_its_time():

@@ -85,12 +85,13 @@ _KERNEL_FILES = ("jit.py", "layout.py", "constants.py", "hooked_dynamics.py", "t
                  "hooked_phase.py", "catch.py", "flight.py", "run.py")
 
 
-def kernel_cache_dir() -> Path:
+def kernel_cache_dir(source: Path | None = None) -> Path:
     """Where the compiled kernels are cached: one folder per version of their source, numba and Python.
 
     numba's own cache checks only the file that holds a function, not the files its callees live in; a folder
-    keyed on every kernel file's text means an edited phase can never run with a stale caller."""
-    here = Path(__file__).parent
+    keyed on every kernel file's text means an edited phase can never run with a stale caller. ``source``: the
+    folder whose kernel files make the key (default: this package's)."""
+    here = Path(__file__).parent if source is None else Path(source)
     digest = hashlib.sha256()
     for name in _KERNEL_FILES:
         digest.update((here / name).read_bytes())
