@@ -54,12 +54,9 @@ def batch_runs(batch, fidelity: str) -> list[dict]:
     traversals = batch.traversals.tolist()
     outcomes = batch.outcome.tolist()
     sim_times = batch.sim_time.tolist()
-    misses = batch.miss_distance.tolist()
     runs = []
     for i in range(len(batch)):
-        miss = misses[i]
         runs.append(dict(traversals=int(traversals[i]), frames=int(batch.frames), outcome=str(outcomes[i]),
-                         reason=batch.reason(i), sim_time=float(sim_times[i]),
-                         miss_distance=None if outcomes[i] == "completed" or not np.isfinite(miss) else float(miss),
+                         reason=batch.reason(i), sim_time=float(sim_times[i]), miss_distance=batch.miss(i),
                          fidelity=fidelity))
     return runs

@@ -48,6 +48,12 @@ class BatchResult:
         t_detach = self.swings["t_detach"][np.arange(len(self)), self.last_frame]
         return (self.outcome != "completed") & np.isfinite(t_detach)
 
+    def miss(self, i: int) -> float | None:
+        """Design i's miss distance (m) as :class:`~aero_env.results.SimResult` keeps it: None where the run
+        completed or has none."""
+        m = float(self.miss_distance[i])
+        return None if self.outcome[i] == "completed" or not math.isfinite(m) else m
+
     def reason(self, i: int) -> str:
         """Design i's outcome as a sentence with numbers (the runner's wording)."""
         return reason_text(int(self.reason_code[i]), *self.reason_values[i], int(self.last_frame[i]),
@@ -91,11 +97,10 @@ def sim_result(res: BatchResult, i: int, fidelity: str) -> SimResult:
                             theta2_min_deg=opt(sw["theta2_min"][i, j]), theta2_max_deg=opt(sw["theta2_max"][i, j]),
                             catch_seat_mm=opt(sw["catch_seat"][i, j] * 1e3)))
     outcome = str(res.outcome[i])
-    miss = res.miss_distance[i]
     energy = {k: float(v[i]) for k, v in res.energy.items()} if res.energy is not None else {}
     return SimResult(traversals=int(res.traversals[i]), frames=res.frames, outcome=outcome, reason=res.reason(i),
                      swings=swings, energy=energy, sim_time=float(res.sim_time[i]), wall_time=res.wall_time,
-                     miss_distance=None if outcome == "completed" or not np.isfinite(miss) else float(miss),
+                     miss_distance=res.miss(i),
                      health=dict(joint_drift=0.0, limit_overshoot_deg=0.0, penetration=0.0), fidelity=fidelity)
 
 
