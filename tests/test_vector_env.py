@@ -73,6 +73,18 @@ def _rollout(envs, actions, steps=2):
     return out
 
 
+def _rollouts_of_both(num_envs, seed, workers=None, **over):
+    """The vector env and the single envs (on the varied scene, ``over`` set), each rolled out on the same
+    actions about the prototype's design."""
+    kw = {} if workers is None else {"workers": workers}
+    fast, slow = _vector(**over, num_envs=num_envs, **kw), _single_envs(VARIED_ID, num_envs, **over)
+    try:
+        actions = _actions(5, num_envs, seed, slow.envs[0].unwrapped.action_for())
+        return _rollout(fast, actions), _rollout(slow, actions)
+    finally:
+        fast.close(), slow.close()
+
+
 def _check_equal_to_single_envs(fast, slow, missing=frozenset()):
     """Every step's observations, rewards, terminations and info of ``fast`` equal the single envs' (``slow``); the
     finished episodes' infos hold every key of the single env's but ``missing``."""
@@ -91,12 +103,7 @@ def _check_equal_to_single_envs(fast, slow, missing=frozenset()):
 
 
 def test_at_reduced_one_batch_equals_single_envs_with_the_same_seeds():
-    fast, slow = _vector(**REDUCED, num_envs=6), _single_envs(VARIED_ID, 6, **REDUCED)
-    try:
-        actions = _actions(5, 6, 1, slow.envs[0].unwrapped.action_for())
-        a, b = _rollout(fast, actions), _rollout(slow, actions)
-    finally:
-        fast.close(), slow.close()
+    a, b = _rollouts_of_both(6, 1, **REDUCED)
     _check_equal_to_single_envs(a, b, BATCH_ONLY_MISSING)
     rewards = np.concatenate([a[1][1], a[2][1]])
     outcomes = set(a[1][4]["final_info"]["outcome"]) | set(a[2][4]["final_info"]["outcome"])
@@ -108,12 +115,7 @@ def test_at_reduced_a_field_the_model_does_not_read_takes_the_config_path_and_st
     # design.Cd (drag) is not read by the reduced model, so its episodes cannot go in as arrays: they are built
     # as configs (reduced_batch's other path), and every step must still be the single envs'
     over = {**REDUCED, "tolerance": [{"name": "design.Cd", "relative": 0.2}, {"name": "design.m3", "relative": 0.05}]}
-    fast, slow = _vector(**over, num_envs=5), _single_envs(VARIED_ID, 5, **over)
-    try:
-        actions = _actions(5, 5, 2, slow.envs[0].unwrapped.action_for())
-        a, b = _rollout(fast, actions), _rollout(slow, actions)
-    finally:
-        fast.close(), slow.close()
+    a, b = _rollouts_of_both(5, 2, **over)
     _check_equal_to_single_envs(a, b, BATCH_ONLY_MISSING)
     built = a[1][4]["final_info"]["as_built"]
     assert len(set(built["design.Cd"])) == 5 and len(set(built["design.m3"])) == 5  # the tolerances were drawn
@@ -154,12 +156,7 @@ def test_reduced_batch_takes_the_config_path_for_mixed_or_no_fields_and_words_er
 
 
 def test_at_a_pymunk_fidelity_the_vector_env_equals_single_envs_with_the_same_seeds():
-    fast, slow = _vector(**MBD_FAST, num_envs=3, workers=1), _single_envs(VARIED_ID, 3, **MBD_FAST)
-    try:
-        actions = _actions(5, 3, 2, slow.envs[0].unwrapped.action_for())
-        a, b = _rollout(fast, actions), _rollout(slow, actions)
-    finally:
-        fast.close(), slow.close()
+    a, b = _rollouts_of_both(3, 2, workers=1, **MBD_FAST)
     _check_equal_to_single_envs(a, b)  # every key, swings, energy and health included
     assert len(set(np.concatenate([a[1][1], a[2][1]]))) > 1
 
