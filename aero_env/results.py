@@ -117,6 +117,12 @@ def never_left_rest(frame: int, rest_timeout: float) -> str:
             f"outweighs the robot")
 
 
+def held_past_balance(frame: int, peak_deg: float, past_deg: float, swing_timeout: float,
+                      note: str = FRICTION_HELD) -> str:
+    return (f"frame {frame} reached {peak_deg:.1f} deg, past {past_deg:.1f} deg where the weights stop driving it, "
+            f"and still held the robot after {swing_timeout} s{note}")
+
+
 def swing_too_long(frame: int, swing_timeout: float) -> str:
     return f"swing on frame {frame} lasted over {swing_timeout} s"
 

@@ -10,6 +10,7 @@ from aero_env.physics import World, simulate
 from aero_env.physics.drag import DragStrip
 from aero_env.physics.leaf_spring import LinearLeafSpring
 from aero_env.physics.robot import Robot
+from aero_env.simulation import simulate as simulate_any
 
 
 # ---------------------------------------------------------------- the prototype
@@ -304,3 +305,19 @@ def test_frame_own_moment_dT_enters_as_in_equation_1(paper_cfg):
         # the frame carries the handrail's card at the seat; the rest of m2 is the robot
         expected = quasi_static.moment(d, th) - (d.m2 - d.handrail_mass) * 9.81 * d.Lb * np.cos(th)
         assert torque == pytest.approx(expected, abs=1e-12)
+
+
+@pytest.mark.parametrize("fidelity", ["mbd", "reduced"])
+def test_a_swing_that_outlasts_its_timeout_past_the_balance_angle_was_held_by_friction(paper_cfg, fidelity):
+    """A sticky hook (mu_s = 4) carries frame 0 past Eq. 1's balance angle (125.3 deg) by 0.7 s and never lets
+    go: at the swing timeout that is friction holding the hook (no_detach), whether or not the frame has turned
+    back 20 deg by then; a timeout before the balance angle is a stall. (At reference fidelity the prototype's
+    high-friction case settles near its peak without turning back 20 deg, and read stalled before.)"""
+    sticky = paper_cfg.replace({"design.mu_s": 4.0, "design.mu_k": 3.0, "scene.frames": 3,
+                                "sim.fidelity": fidelity})
+    late = simulate_any(sticky.replace({"sim.swing_timeout": 0.7}))
+    assert late.outcome == "no_detach" and "still held the robot after 0.7 s: friction held the hook" in late.reason
+    peak = float(late.reason.split("reached ")[1].split(" deg")[0])
+    assert peak > 125.3
+    early = simulate_any(sticky.replace({"sim.swing_timeout": 0.3}))
+    assert early.outcome == "stalled" and early.reason == "swing on frame 0 lasted over 0.3 s"

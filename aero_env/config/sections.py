@@ -137,7 +137,9 @@ class Sim:
                              "sits there up to its penetration (< 1 mm); farther touches are grazes", 0.0, 0.1,
                              lo_open=True)
     flight_timeout: float = spec(0.5, "s", "longest flight between detach and catch", 0.0, 10.0, lo_open=True)
-    swing_timeout: float = spec(3.0, "s", "longest swing on one frame before it counts as stalled", 0.0, 60.0, lo_open=True)
+    swing_timeout: float = spec(3.0, "s", "longest swing on one frame: past it the run counts as stalled, or as no_detach "
+                                "when the frame has passed its balance angle with the robot still hooked", 0.0, 60.0,
+                                lo_open=True)
     rest_timeout: float = spec(1.0, "s", "a frame that has not left its rest angle this long after the catch never "
                                "will (the hanging robot's swing only loses energy, so its largest pull comes "
                                "first): stalled", 0.0, 60.0, lo_open=True)

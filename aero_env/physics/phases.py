@@ -92,6 +92,10 @@ class Hanging:
         if self.peak < p.rest_angle + REST_MOVE and since_catch > sim.rest_timeout:
             return "stalled", say.never_left_rest(frame.index, sim.rest_timeout)
         if since_catch > sim.swing_timeout:
+            if self.peak >= p.held_past:  # past the balance angle and still hooked: friction holds it
+                return "no_detach", say.held_past_balance(frame.index, math.degrees(self.peak),
+                                                          math.degrees(p.held_past), sim.swing_timeout,
+                                                          run.holding_note)
             return "stalled", say.swing_too_long(frame.index, sim.swing_timeout)
         return None
 

@@ -8,9 +8,10 @@ first failure or when the last frame catches the robot, and names its outcome:
 ==============  =====================================================================
 ``completed``   caught by the last frame of the row
 ``no_detach``   the hook still holds ``stop_hold`` after the frame reached its stop, or the frame
-                turned back from near its stop with the hook holding (friction too high)
+                turned back from near its stop with the hook holding, or still holds it past its
+                balance angle after ``swing_timeout`` (friction too high)
 ``stalled``     the frame never left its rest angle (``rest_timeout``), turned back well before its
-                stop, or the swing outlasted ``swing_timeout``
+                stop, or the swing outlasted ``swing_timeout`` short of its balance angle
 ``fell_short``  the hook slipped off too low (friction too low), or passed behind the next handrail
 ``missed_catch`` the arm did not swing forward in time (spring too weak or too stiff), the hook
                 passed ahead of the next handrail, or touched it without seating (a graze)

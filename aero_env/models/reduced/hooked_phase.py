@@ -19,8 +19,8 @@ from .constants import STALL_WINDOW
 from .hooked_dynamics import (friction_cone, hook_on_frame, hooked_energy, normal_sum, slide_eval, slide_step,
                               stick_eval, stick_step, theta2)
 from .impacts import impact
-from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_STOP_HOLD, R_TIMEOUT, R_TURN_BACK,
-                     R_TURN_NEAR_STOP, P, W, X)
+from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_HELD_LONG, R_STOP_HOLD, R_TIMEOUT,
+                     R_TURN_BACK, R_TURN_NEAR_STOP, P, W, X)
 from .transitions import finish, parked_energy, release_hook, start_slide, track_energy
 
 
@@ -164,8 +164,9 @@ def swing_checks(p, x, out, sw, t1, detail, parked):
     elif not at_stop and th1 < peak - turn_back:
         near = peak >= p[P.held_past]
         finish(x, out, R_TURN_NEAR_STOP if near else R_TURN_BACK, t1, math.degrees(peak), nan)
-    elif since > p[P.swing_timeout]:
-        finish(x, out, R_TIMEOUT, t1, nan, nan)
+    elif since > p[P.swing_timeout]:  # past the balance angle and still hooked: friction holds it (results)
+        held = peak >= p[P.held_past]
+        finish(x, out, R_HELD_LONG if held else R_TIMEOUT, t1, math.degrees(peak), nan)
     elif unmoved and since > p[P.rest_timeout]:
         finish(x, out, R_AT_REST, t1, nan, nan)
     elif since >= STALL_WINDOW and (x[X.barrier] > 0.0 or (x[X.lock1k] == 1.0 and peak < rest + turn_back)):

@@ -74,12 +74,12 @@ OUTCOMES = ("completed", "no_detach", "stalled", "fell_short", "missed_catch")
 _C, _ND, _ST, _FS, _MC = range(5)
 # reasons: how the outcome's sentence is written (outputs.reason_text)
 (R_COMPLETED, R_STOP_HOLD, R_TURN_NEAR_STOP, R_TURN_BACK, R_TIMEOUT, R_BARRIER, R_STIFF, R_LOW,
- R_NEVER_DOWN, R_WEAK, R_BEHIND, R_AHEAD, R_AT_REST, R_BARRIER_REST, R_T_MAX, R_GRAZE) = range(16)
+ R_NEVER_DOWN, R_WEAK, R_BEHIND, R_AHEAD, R_AT_REST, R_BARRIER_REST, R_T_MAX, R_GRAZE, R_HELD_LONG) = range(17)
 REASON_OUTCOME = {R_COMPLETED: _C, R_STOP_HOLD: _ND, R_TURN_NEAR_STOP: _ND, R_TURN_BACK: _ST, R_TIMEOUT: _ST,
                   R_BARRIER: _ST, R_STIFF: _MC, R_LOW: _FS, R_NEVER_DOWN: _MC, R_WEAK: _MC, R_BEHIND: _FS,
                   R_AHEAD: _MC, R_AT_REST: _ST, R_BARRIER_REST: _ST,
                   R_T_MAX: _ST,  # the runner's "timeout" (sim.t_max: no phase outlasts its own limit) reads stalled
-                  R_GRAZE: _MC}
+                  R_GRAZE: _MC, R_HELD_LONG: _ND}
 
 # the arrays' widths, as constants the compiled code can read
 N_PARAMS, N_STATE, N_OUT, N_SWING = len(P), len(X), len(O), len(W)

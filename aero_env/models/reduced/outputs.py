@@ -10,8 +10,8 @@ import numpy as np
 from ... import results as say
 from ...results import TURN_BACK_DEG, SimResult, Swing
 from .layout import (OUTCOMES, R_AHEAD, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_BEHIND, R_COMPLETED, R_GRAZE,
-                     R_LOW, R_NEVER_DOWN, R_STIFF, R_STOP_HOLD, R_TIMEOUT, R_TURN_BACK, R_TURN_NEAR_STOP, R_WEAK,
-                     REASON_OUTCOME, O, P, W)
+                     R_HELD_LONG, R_LOW, R_NEVER_DOWN, R_STIFF, R_STOP_HOLD, R_TIMEOUT, R_TURN_BACK, R_TURN_NEAR_STOP,
+                     R_WEAK, REASON_OUTCOME, O, P, W)
 
 # the constants a reason's sentence quotes
 TEXT_KEYS = ("stop_hold", "stop", "held_past", "swing_timeout", "rest_timeout", "t_max")
@@ -117,6 +117,8 @@ def reason_text(code: int, v1: float, v2: float, origin: int, c: dict) -> str:
         return say.turned_back(origin, v1)
     if code == R_TIMEOUT:
         return say.swing_too_long(origin, c["swing_timeout"])
+    if code == R_HELD_LONG:
+        return say.held_past_balance(origin, v1, math.degrees(c["held_past"]), c["swing_timeout"])
     if code == R_BARRIER:
         return (f"swing on frame {origin} would last over {c['swing_timeout']} s: the frame cannot climb "
                 f"{TURN_BACK_DEG:.0f} deg above its rest with the energy it has, or fell back to its rest stop "
