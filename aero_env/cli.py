@@ -164,8 +164,9 @@ def cmd_compare(args) -> int:
             print("\nthe paper's words on this swing (Sec. 7.3, Figs. 40-43), point by point:")
             print(f"{'point':>24} {'paper':>8} {'+/-':>6} {'MBD':>8} {'unit':>6}  holds")
             for p in summary["paper_points"]:
-                print(f"{p['key']:>24} {p['paper_value']:8.2f} {p['tolerance']:6.2f} {_fmt(p['ours'], '8.2f')} "
-                      f"{p['unit']:>6}  {'yes' if p['holds'] else 'NO'}")
+                tol, holds = p["tolerance"], {True: "yes", False: "NO", None: "not checked"}[p["holds"]]
+                print(f"{p['key']:>24} {p['paper_value']:8.2f} {_fmt(tol, '6.2f')} {_fmt(p['ours'], '8.2f')} "
+                      f"{p['unit']:>6}  {holds}")
         for name, path in (("plot", args.plot), ("domain map", args.domain_map)):
             if path:
                 print(f"wrote {name}: {path}")

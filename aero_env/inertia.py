@@ -5,7 +5,10 @@ Shared by the pymunk world and the analytical models so that both use one defini
 
 from __future__ import annotations
 
-from .config import Design
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the config's checks use torso_build, so inertia must not import the config at run time
+    from .config import Design
 
 
 def frame_inertia(d: Design, convention: str = "consistent") -> float:
@@ -33,6 +36,45 @@ def counterbalance_inertia(d: Design) -> float:
 
 
 # ---- the robot as built from its parts (what the pymunk world swings) ----
+def torso_build(Ld, arm_length, alpha_max_deg, coin_radius):
+    """(torso_length, coin_offset) of the robot Table 1 describes, in the units given; floats or arrays.
+
+    Ld is the distance from the hook to the torso's bottom (Appendix A) with the arm fully bent at
+    alpha_max, where the hook sits arm_length·sin(alpha_max) ahead of the axle and
+    -arm_length·cos(alpha_max) above it; the torso card runs straight down from the axle, so its
+    length is what puts its bottom Ld from the hook. The coins are glued flush with the bottom
+    (their centre one coin radius above it): the paper puts "the torso containing the weight" at Ld.
+    """
+    import numpy as np
+
+    a = np.radians(alpha_max_deg)
+    ahead, above = arm_length * np.sin(a), -arm_length * np.cos(a)
+    torso_length = np.sqrt(np.maximum(Ld**2 - ahead**2, 0.0)) - above
+    return torso_length, torso_length - coin_radius
+
+
+def spring_damping_coefficient(spring_k, spring_damping, arm_mass, arm_length):
+    """The leaf spring's damping (torque per rate of alpha, N·m·s/rad in SI): the damping ratio
+    ``spring_damping`` of the arm swinging on the spring about its axle, 2·zeta·sqrt(k·I_arm), with
+    I_arm = m_arm·L²/3 the arm about the axle. Floats or arrays."""
+    import numpy as np
+
+    return 2.0 * spring_damping * np.sqrt(spring_k * arm_mass * arm_length**2 / 3.0)
+
+
+def hook_to_torso_bottom(torso_length, arm_length, alpha_max_deg):
+    """The inverse of :func:`torso_build`: the hook's distance to the torso's bottom at alpha_max."""
+    import numpy as np
+
+    a = np.radians(alpha_max_deg)
+    return np.hypot(arm_length * np.sin(a), torso_length - arm_length * np.cos(a))
+
+
+def min_Ld(arm_length, alpha_max_deg, coin_radius):
+    """The shortest Ld whose torso still holds the coins on the card (torso_length >= 2·coin_radius)."""
+    return hook_to_torso_bottom(2.0 * coin_radius, arm_length, alpha_max_deg)
+
+
 def part_layout(arm_length, torso_com, m_arm, m_torso, alpha):
     """Torso-frame positions (axle at the origin, torso along -y) of the hook, the arm's centre, the
     torso's centre and the robot's centre of mass at arm angle ``alpha`` (rad): the interior angle at
@@ -49,8 +91,8 @@ def part_layout(arm_length, torso_com, m_arm, m_torso, alpha):
 
 
 class RobotParts:
-    """The robot as a hand-made toy is built, in SI: a card torso strip hanging from the axle with
-    the coins on it, and the arm, a uniform rod from the axle to the hook. The handrail's card,
+    """The robot as a hand-made toy is built, in SI: a card torso strip hanging from the axle, its
+    bottom Table 1's Ld from the hook with the arm fully bent, with the coins on it (:func:`torso_build`), and the arm, a uniform rod from the axle to the hook. The handrail's card,
     which Table 1 counts in m2, belongs to the frame and is not part of the robot.
 
     Every attribute is a plain float (or a numpy array when the design's fields are arrays, so the
@@ -64,10 +106,13 @@ class RobotParts:
         self.m_torso = self.m_card + self.m_coins
         self.mass = self.m_torso + self.m_arm
         self.arm_length = d.arm_length
-        # torso: card strip from the axle to torso_length, coins (discs) centred coin_offset down it
-        self.torso_com = (self.m_card * 0.5 * d.torso_length + self.m_coins * d.coin_offset) / self.m_torso
-        self.I_torso = (self.m_card * (d.torso_length**2 / 12.0 + (0.5 * d.torso_length - self.torso_com) ** 2)
-                        + self.m_coins * (0.5 * d.coin_radius**2 + (d.coin_offset - self.torso_com) ** 2))
+        # torso: card strip from the axle down, its bottom Ld from the hook at alpha_max; the coins (discs)
+        # glued flush with its bottom
+        self.torso_length, self.coin_offset = torso_build(d.Ld, d.arm_length, d.alpha_max_deg, d.coin_radius)
+        T, c = self.torso_length, self.coin_offset
+        self.torso_com = (self.m_card * 0.5 * T + self.m_coins * c) / self.m_torso
+        self.I_torso = (self.m_card * (T**2 / 12.0 + (0.5 * T - self.torso_com) ** 2)
+                        + self.m_coins * (0.5 * d.coin_radius**2 + (c - self.torso_com) ** 2))
         self.I_arm = self.m_arm * d.arm_length**2 / 12.0  # about the arm's own centre
 
     def layout(self, alpha):

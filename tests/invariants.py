@@ -225,7 +225,8 @@ class Observer:
                "speed": max(b.velocity.length for b in dynamic) * MM}  # m/s: the fastest dynamic body
         if self.keep_rows:
             row.update(active=w.active, theta1=w.frames[w.active].body.angle,
-                       kinetic=kinetic_energy(self.frames + self.robot_bodies))
+                       kinetic=kinetic_energy(self.frames + self.robot_bodies),
+                       alpha=None if self.arm is None else alpha_of(self.arm, self.torso))
         return row
 
     def __call__(self) -> None:

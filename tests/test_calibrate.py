@@ -262,8 +262,9 @@ def test_same_seed_gives_identical_json_in_two_processes(tmp_path):
     b = _calibrate_json()
     assert a == b  # json round-trips floats exactly: bit for bit
     assert a["method"] == "cmaes" and a["trials"] == 6 and set(a["fitted"]) == {"design.m3", "design.mu_k"}
-    assert set(a["targets"]) == {"swing_duration", "theta1_catch_deg", "theta2_catch_deg", "theta1_detach_deg",
-                                 "t_lowest", "alpha_at_lowest_deg"}
+    assert set(a["targets"]) == {"swing_duration", "theta1_catch_deg", "theta2_catch_deg", "theta2_mid_deg",
+                                 "theta1_detach_deg", "t_lowest", "alpha_at_lowest_deg", "omega1_dip",
+                                 "theta1_at_dip_deg"}
     if a["miss"] is None:
         back = load_config(out)
         assert {k: back.value(k) for k in a["fitted"]} == a["fitted"]

@@ -78,7 +78,7 @@ def test_info_has_the_simulate_json_fields_and_the_design(prototype_step):
     assert FIELDS - {"wall_time"} <= set(info) and "wall_time" not in info
     assert set(info["design"]) == {"design.m3", "design.h", "design.La", "design.spring_k", "design.mu_s",
                                    "design.mu_k"}
-    assert info["context"] == {"scene.rise": 0.002, "scene.pitch": 0.082, "design.m2": 0.00771}
+    assert info["context"] == {"scene.rise": 0.002, "scene.pitch": 0.076, "design.m2": 0.00771}
     assert info["as_built"] == {}
 
 
@@ -120,7 +120,7 @@ def test_shaped_reward_gives_partial_credit_below_one_traversal():
     shaped = make(**SHORT, **{"env.reward_shaping": 0.5})
     shaped.reset(seed=0)
     _, r1, _, _, info1 = shaped.step(action)
-    expected = r0 + 0.5 * max(0.0, 1 - info1["miss_distance"] / 0.082)
+    expected = r0 + 0.5 * max(0.0, 1 - info1["miss_distance"] / load_config(PAPER).scene.pitch)
     assert r1 == pytest.approx(expected) and r0 < r1 < r0 + 0.5
 
 

@@ -131,9 +131,11 @@ def test_simulate_prints_the_fidelity_it_ran(capsys):
 # gym.make with the fidelity and the scene, env.step with the design's action), never against the
 # benchmark's own code; their timings are not checked at all (benchmarks print them, tests never time).
 # The designs are the documented draw: numpy.random.default_rng(seed).uniform(-1, 1, (designs, dim)).
-# Seed 3's three designs (3 frames): no_detach, fell_short, and one that traverses twice (once without
-# skewer friction), so detach times and outcome changes exist to be compared.
-BENCH_SEED = 3
+# Seed 6's designs: of three (3 frames) two let go at reference fidelity, and one traverses, so detach times
+# and outcomes exist to be compared; of four (2 frames) one traverses. Seed 4's three designs (3 frames): one
+# traverses only without the skewer's friction, so the effects bench has an outcome change to count.
+BENCH_SEED = 6
+EFFECTS_SEED = 4
 
 
 def _env_runs(overrides: dict, designs: int, seed: int = BENCH_SEED) -> list[dict]:
@@ -164,7 +166,7 @@ def test_bench_accuracy_reports_every_fidelity_against_the_reference(capsys, tmp
     ref = runs["reference"]
     assert rep["reference_outcomes"] == dict(Counter(i["outcome"] for i in ref))
     detached = [i for i, info in enumerate(ref) if info["swings"][0]["t_detach"] is not None]
-    assert len(detached) >= 2, "seed no longer draws designs that let go: pick another BENCH_SEED"
+    assert len(detached) >= 2, "seed no longer draws designs that let go: pick another EFFECTS_SEED"
     for name, row in rows.items():
         mine = runs[name]
         assert (row["model"], row["dt"]) == ("mbd", FIDELITY_PRESETS[name]["dt"])
@@ -234,25 +236,26 @@ def test_bench_accuracy_near_a_design_and_on_converged_designs(capsys):
 
 
 def test_bench_effects_counts_the_outcomes_each_effect_changes(capsys):
-    assert cli_main(["bench", "effects", str(PAPER), "--designs", "3", "--seed", str(BENCH_SEED), "--repeats", "1",
+    assert cli_main(["bench", "effects", str(PAPER), "--designs", "3", "--seed", str(EFFECTS_SEED), "--repeats", "1",
                      "--set", "scene.frames=3", "--json"]) == 0
     rep = json.loads(capsys.readouterr().out)
     rows = {r["effect"]: r for r in rep["effects"]}
-    assert set(rows) == {"drag", "static_kinetic", "live_frames", "pivot_friction", "axle_friction"}
+    assert set(rows) == {"drag", "static_kinetic", "live_frames", "pivot_friction", "axle_friction", "spring_damping"}
     assert rows["drag"]["scene"] is False and rows["static_kinetic"]["scene"] == "static_kinetic"
     # the dry frictions are measured at the scene's own value against no part at all
-    assert rows["pivot_friction"]["scene"] == 1.0e-4 and rows["pivot_friction"]["off"] == 0.0
-    assert rows["axle_friction"]["scene"] == 8.0e-6 and rows["axle_friction"]["off"] == 0.0
+    assert rows["pivot_friction"]["scene"] == 1.185e-4 and rows["pivot_friction"]["off"] == 0.0
+    assert rows["axle_friction"]["scene"] == 4.25e-5 and rows["axle_friction"]["off"] == 0.0
+    assert rows["spring_damping"]["scene"] == 0.0 and rows["spring_damping"]["on"] == 0.02
     toggled = {"drag": {"scene.effects.drag": True}, "static_kinetic": {"scene.effects.friction": "kinetic"},
                "live_frames": {"scene.effects.live_frames": 3}, "pivot_friction": {"design.pivot_friction": 0.0},
-               "axle_friction": {"design.axle_friction": 0.0}}
-    scene = [i["traversals"] for i in _env_runs({"scene.frames": 3}, 3)]
+               "axle_friction": {"design.axle_friction": 0.0}, "spring_damping": {"design.spring_damping": 0.02}}
+    scene = [i["traversals"] for i in _env_runs({"scene.frames": 3}, 3, EFFECTS_SEED)]
     for name, overrides in toggled.items():
-        other = [i["traversals"] for i in _env_runs({"scene.frames": 3, **overrides}, 3)]
+        other = [i["traversals"] for i in _env_runs({"scene.frames": 3, **overrides}, 3, EFFECTS_SEED)]
         changed = [i for i, (a, b) in enumerate(zip(scene, other)) if a != b]
         assert rows[name]["changed_designs"] == changed and rows[name]["outcomes_changed"] == len(changed), name
-        if name == "pivot_friction":  # the sample shows an effect at all (measured: design 2, 2 -> 1 traversal)
-            assert changed, "seed no longer draws a design the skewer's friction decides: pick another BENCH_SEED"
+        if name == "pivot_friction":  # the sample shows an effect at all (measured: design 1, 0 -> 1 traversal)
+            assert changed, "seed no longer draws a design the skewer's friction decides: pick another EFFECTS_SEED"
 
 
 def test_bench_throughput_times_every_fidelity_the_vector_env_and_two_workers(capsys):
@@ -278,7 +281,7 @@ def test_bench_throughput_times_every_fidelity_the_vector_env_and_two_workers(ca
     mine = [i["traversals"] for i in _env_runs({"scene.frames": 2}, 4)]
     assert rep["workers"][0]["mean_reward"] == rep["workers"][1]["mean_reward"] == pytest.approx(np.mean(mine))
     assert rows["mbd", "single env"]["mean_reward"] == pytest.approx(np.mean(mine))
-    assert 0 < np.mean(mine) < 1, mine  # a mean that tells designs apart (the third design traverses)
+    assert 0 < np.mean(mine) < 1, mine  # a mean that tells designs apart (the second design traverses)
 
 
 @pytest.mark.parametrize("argv, needle", [

@@ -75,13 +75,10 @@ def test_extreme_designs_stay_sane_or_say_unstable(paper_cfg, name):
 
 
 # ---- time steps: a step too large is reported, never a wrong result ----
-# A known miss since the calibrated physics (skewer friction, parts-built robot): at 2 ms the hook grazes the
-# next handrail without the monitors flagging the step as too large (overshoot 3.1 deg, penetration 0.33 mm,
-# both under their limits). Strict: the mark fails the suite as soon as the case is caught.
-_TWO_MS_MISS = pytest.mark.xfail(strict=True, reason="2 ms step: an unflagged graze (issue 14 note)")
-
-
-@pytest.mark.parametrize("dt", [0.00025, 0.001, pytest.param(0.002, marks=_TWO_MS_MISS), 0.005, 0.01])
+# At 2 ms the hook's landing on the next handrail sinks it 1.3 mm into the card, past sim.max_penetration:
+# the run says unstable. (With the earlier fitted robot, twice Table 1's size, the same step grazed the
+# handrail unflagged; these were strict xfails until the robot was built to Table 1.)
+@pytest.mark.parametrize("dt", [0.00025, 0.001, 0.002, 0.005, 0.01])
 def test_large_time_steps_agree_or_say_unstable(paper_cfg, dt):
     hold = {"sim.dt": dt, "sim.contact_hold": max(0.01, 5 * dt), "scene.frames": 3}
     for design, reference in (({}, "completed"), ({"design.spring_k": 8.77e-5}, "missed_catch")):  # brief: too weak
@@ -91,7 +88,6 @@ def test_large_time_steps_agree_or_say_unstable(paper_cfg, dt):
         assert result.outcome in (reference, "unstable"), f"dt={dt}: {result.outcome} ({result.reason})"
 
 
-@_TWO_MS_MISS
 def test_the_default_time_step_has_a_margin(paper_cfg):
     # half the default step and twice it agree with it; four times it is reported unstable
     outcomes = {dt: simulate(paper_cfg.replace({"sim.dt": dt})).outcome for dt in (0.00025, 0.001, 0.002)}
@@ -141,13 +137,17 @@ def test_the_hook_landing_anywhere_on_the_next_handrail_stays_sane(paper_cfg):
     assert "completed" in outcomes and len(outcomes) >= 2
 
 
-def test_the_stoppers_hold(paper_run):
+def test_the_stoppers_hold(paper_run, paper_cfg):
     # after the hook lets go at about 4 rad/s, the emptied frame swings on and hits its stopper; the
-    # arm hits its own stopper as the spring snaps it forward. Both give by less than a degree
-    # (the corner test above checks the same for the action space's extremes).
+    # arm hits its own stopper as the spring snaps it forward. Both give by little, and by less at a finer
+    # step: the give is the solver's (first order in the step), not the machine's. Measured: 1.12 deg at the
+    # default 0.5 ms (the Table 1 robot's light torso lets the arm snap onto alpha_min fast), 0.46 at
+    # mbd-fine, 0.09 at reference (the corner test above checks the action space's extremes).
     first_swing = paper_run.trace["t"] < paper_run.swings[0].t_detach
     assert np.abs(paper_run.trace["omega1"][first_swing]).max() > 3.0  # measured 4.1 rad/s
-    assert 0.0 < paper_run.health["limit_overshoot_deg"] < 1.0
+    assert 0.0 < paper_run.health["limit_overshoot_deg"] < 1.5
+    fine = simulate(paper_cfg.replace({"sim.fidelity": "mbd-fine"}))
+    assert fine.health["limit_overshoot_deg"] < 0.6 * paper_run.health["limit_overshoot_deg"]
 
 
 # ---- determinism: the golden record ----

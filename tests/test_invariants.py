@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from .invariants import AUDIT_EVERY, observed_run, stepped, swing_scale
@@ -59,8 +60,10 @@ def pinned(paper_cfg):
 
 @pytest.fixture(scope="module")
 def notch(paper_cfg):
-    """The contact robot seated in a frictionless notch, lossless, while the frame turns to 110 deg: the
-    hook stays in the corner (it slides out near 125-130 deg, where the notch no longer holds it)."""
+    """The contact robot seated in a frictionless notch, lossless but for the arm's stop, while the frame turns
+    to 110 deg: the hook stays in the corner (it slides out near 125-130 deg, where the notch no longer holds
+    it). The Table 1 robot's swing lifts the arm off its alpha_max stop and drops it back on (near 82 deg):
+    an inelastic impact, which the test books apart."""
     turned = math.radians(110.0)
     return stepped(paper_cfg.replace(FRICTIONLESS_NOTCH), lambda w: w.frames[0].body.angle >= turned)[1]
 
@@ -69,8 +72,21 @@ def notch(paper_cfg):
 @pytest.mark.parametrize("scene", ["pinned", "notch"])
 def test_lossless_scene_conserves_recomputed_energy(scene, request, paper_cfg):
     obs = request.getfixturevalue(scene)
-    e = obs.column("energy")
+    e = np.array(obs.column("energy"))
     tol = CONSERVED[scene] * swing_scale(paper_cfg.design)
+    if scene == "notch":
+        # The arm striking its alpha_max stop (a step that lands on it from below) is an inelastic impact: it
+        # may only lose energy; take each strike's step out, and the rest must be conserved.
+        alpha, amax = np.array(obs.column("alpha")), math.radians(paper_cfg.design.alpha_max_deg)
+        # (a step that crosses onto the stop moving toward it faster than 0.05 deg a step: a real strike, not
+        # the resting arm's jitter about its stop)
+        strikes = np.flatnonzero((alpha[1:] >= amax) & (alpha[:-1] < amax)
+                                 & (np.diff(alpha) > math.radians(0.05))) + 1
+        jumps = e[strikes] - e[strikes - 1]
+        assert len(strikes) >= 1 and np.all(jumps <= 1e-9), jumps  # measured: one strike, -4.5e-6 J
+        steps = np.diff(e, prepend=e[0])
+        steps[strikes] = 0.0
+        e = e[0] + np.cumsum(steps)
     # the swing got where it was meant to, and traded energy worth checking: far more than the tolerance
     assert obs.reached, (scene, math.degrees(obs.rows[-1]["theta1"]), obs.rows[-1]["t"])
     assert max(obs.column("kinetic")) > 50 * tol  # measured: 4.6e-4 J pinned, 4.4e-4 J notch

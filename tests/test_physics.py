@@ -6,11 +6,14 @@ import numpy as np
 import pymunk
 import pytest
 
+from aero_env import units
 from aero_env.physics import World, simulate
 from aero_env.physics.drag import DragStrip
 from aero_env.physics.leaf_spring import LinearLeafSpring
 from aero_env.physics.robot import Robot
 from aero_env.simulation import simulate as simulate_any
+
+from .invariants import kinetic_energy
 
 
 # ---------------------------------------------------------------- the prototype
@@ -83,9 +86,11 @@ def test_low_and_high_friction_fail_differently_and_the_prototype_sits_between(p
 
 def test_stiff_spring_keeps_the_arm_forward_while_hanging(paper_cfg):
     r = simulate(paper_cfg.replace({"design.spring_k": 8.77e-3}), trace=True)
-    hanging = r.trace["t"] < r.swings[0].t_detach
-    # placed at 120 deg, the stiff spring pulls the arm straight to ~60 deg and keeps it there
-    assert np.degrees(r.trace["alpha"][hanging][-5:]).max() < 70.0
+    hanging = r.trace["t"] <= r.swings[0].t_detach
+    # placed at 120 deg, the stiff spring pulls the arm straight to ~60 deg while the hook still holds (the
+    # Table 1 robot's short torso lets the hook go 27 ms later): on release it has no swing left (the paper)
+    assert np.degrees(r.trace["alpha"][hanging][-1]) < 62.0 and r.swings[0].alpha_detach_deg < 62.0
+    assert r.outcome == "missed_catch" and "too stiff" in r.reason
 
 
 def test_too_little_moment_imbalance_stalls(paper_cfg):
@@ -154,7 +159,8 @@ def test_leaf_spring_sign_snaps_a_free_arm_to_alpha_min(paper_cfg):
     for _ in range(100):
         space.step(0.0005)
         alphas.append(math.degrees(robot.alpha))
-    assert alphas[0] < 120.0 and np.all(np.diff(alphas[:60]) < 0)  # it closes at once and steadily
+    closed = int(np.argmin(alphas))
+    assert alphas[0] < 120.0 and closed > 10 and np.all(np.diff(alphas[:closed + 1]) < 0)  # at once and steadily
     assert min(alphas) < 60.5  # and reaches the straight-spring stop within 50 ms
     assert max(alphas[70:]) < 65.0  # where it stays: the stop is inelastic
 
@@ -249,8 +255,12 @@ def test_live_window_keeps_only_nearby_frames_in_the_space(paper_cfg):
     wide = simulate(paper_cfg.replace({"scene.effects.live_frames": 3}))
     base = simulate(paper_cfg)
     assert wide.outcome == base.outcome and wide.traversals == base.traversals
-    for a, b in zip(wide.swings, base.swings):  # more live frames change only the solver's order
-        assert a.t_catch == pytest.approx(b.t_catch, abs=0.005)
+    # more live frames change only the solver's order: each swing lasts as long within 5 ms (measured 4 ms; the
+    # catch times add those up along the row, 16 ms by the last frame)
+    for a, b in zip(wide.swings, base.swings):
+        assert (a.swing_duration is None) == (b.swing_duration is None)
+        if a.swing_duration is not None:
+            assert a.swing_duration == pytest.approx(b.swing_duration, abs=0.005)
 
 
 def test_a_long_row_is_traversed_too(paper_cfg):
@@ -307,6 +317,30 @@ def test_frame_own_moment_dT_enters_as_in_equation_1(paper_cfg):
         assert torque == pytest.approx(expected, abs=1e-12)
 
 
+@pytest.mark.parametrize("overrides", [{}, {"design.Ld": 0.075, "design.arm_length": 0.025, "design.alpha_max_deg": 110}])
+def test_the_built_robot_is_table_1s_torso_bottom_ld_from_the_hook_with_the_coins_on_the_card(paper_cfg, overrides):
+    """Measured on the world's bodies at alpha_max: the hook (the arm's tip) to the torso card's bottom is Ld
+    (Appendix A), and the coins lie on the card. The torso's length is solved here from the law of cosines
+    (hook, axle and the torso's bottom: sides arm_length, T and Ld, the angle alpha_max at the axle), not by
+    the builder's own formula."""
+    cfg = paper_cfg.replace(overrides)
+    d, world = cfg.design, World(cfg)
+    robot = world.robot
+    robot.place_hanging(world.frames[0].hook_seat_world(), math.radians(90), math.radians(d.alpha_max_deg))
+    L, a, Ld = d.arm_length, math.radians(d.alpha_max_deg), d.Ld
+    T = L * math.cos(a) + math.sqrt(Ld**2 - (L * math.sin(a)) ** 2)  # Ld² = L² + T² - 2·L·T·cos(a)
+    bottom = robot.torso.local_to_world((0.0, -T * units.LENGTH))
+    assert (robot.hook_world() - bottom).length / units.LENGTH == pytest.approx(Ld, abs=1e-9)
+    assert world.p.torso_length / units.LENGTH == pytest.approx(T, rel=1e-12)
+    # the coins, discs of coin_radius centred coin_offset down the card from the axle, stay on the card
+    coin_at = world.p.coin_offset / units.LENGTH
+    assert d.coin_radius - 1e-12 <= coin_at and coin_at + d.coin_radius <= T + 1e-12
+    # ... and sit at its bottom: the torso's centre of mass is the card's and the coins' by hand
+    m_card = d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass
+    com = (m_card * T / 2 + d.coin_mass * (T - d.coin_radius)) / (m_card + d.coin_mass)
+    assert world.p.torso_com / units.LENGTH == pytest.approx(com, rel=1e-12)
+
+
 @pytest.mark.parametrize("fidelity", ["mbd", "reduced"])
 def test_a_swing_that_outlasts_its_timeout_past_the_balance_angle_was_held_by_friction(paper_cfg, fidelity):
     """A sticky hook (mu_s = 4) carries frame 0 past Eq. 1's balance angle (125.3 deg) by 0.7 s and never lets
@@ -321,3 +355,36 @@ def test_a_swing_that_outlasts_its_timeout_past_the_balance_angle_was_held_by_fr
     assert peak > 125.3
     early = simulate_any(sticky.replace({"sim.swing_timeout": 0.3}))
     assert early.outcome == "stalled" and early.reason == "swing on frame 0 lasted over 0.3 s"
+
+
+def test_the_spring_damping_takes_out_the_dampers_work(paper_cfg):
+    """design.spring_damping: a free robot (no gravity, no handrail) whose arm snaps from alpha_max on a damped
+    spring loses, before the arm reaches its alpha_min stop, the damper's work: the integral of c·(alpha')²
+    with c = 2·zeta·sqrt(k·m_arm·arm_length²/3) computed here from the config; its energy is recounted from
+    the bodies (invariants.kinetic_energy) and the spring law written out. Undamped, it keeps its energy."""
+    def snap(zeta):
+        cfg = paper_cfg.replace({"design.spring_damping": zeta, "design.axle_friction": 0.0})  # the damper alone
+        d, p = cfg.design, World(cfg).p
+        space = pymunk.Space()
+        robot = Robot(p)
+        robot.place_hanging(pymunk.Vec2d(0.0, 0.0), math.pi / 2, p.alpha_max)
+        robot.add_to(space)
+        LinearLeafSpring(robot, p.spring_k, p.alpha_min, p.spring_c).add_to(space)
+        c = 2 * zeta * math.sqrt(d.spring_k * d.arm_mass * d.arm_length**2 / 3)  # SI
+
+        def energy():  # J
+            da = robot.alpha - math.radians(d.alpha_min_deg)
+            return kinetic_energy(robot.bodies) + 0.5 * d.spring_k * da * da
+
+        e0, work, dt = energy(), 0.0, 1e-5
+        rate = robot.alpha_rate
+        while robot.alpha > math.radians(d.alpha_min_deg + 5.0):  # stop short of the stop's impact
+            space.step(dt)
+            work += 0.5 * c * (rate**2 + robot.alpha_rate**2) * dt  # trapezoid over the step
+            rate = robot.alpha_rate
+        return e0 - energy(), work
+
+    lost, work = snap(0.3)
+    assert work > 1e-5 and lost == pytest.approx(work, rel=0.01)  # measured 0.06 %
+    lost0, work0 = snap(0.0)
+    assert work0 == 0.0 and abs(lost0) < 1e-3 * work

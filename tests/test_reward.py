@@ -50,13 +50,14 @@ def test_a_hook_that_never_let_go_earns_no_partial_credit():
     hung = [(o, t, m, r) for o, t, m, r in runs if o in HUNG]
     flown = [(o, t, m, r) for o, t, m, r in runs if o in FLIGHT_MISSES]
     # the hung runs have a miss distance the old rule paid for (w·(1 - miss/pitch) > 0) ...
-    assert sum(m is not None and m < 0.082 for _, _, m, _ in hung) >= 5, hung
+    pitch = load_config(PAPER).scene.pitch
+    assert sum(m is not None and m < pitch for _, _, m, _ in hung) >= 5, hung
     # ... and earn their traversals, nothing more
     assert all(r == t for _, t, _, r in hung), [(o, r - t) for o, t, _, r in hung if r != t]
     # a flight that missed earns w·(1 - miss/pitch) on top of its traversals, less than one more
     assert len(flown) >= 5
     for o, t, m, r in flown:
-        assert r == pytest.approx(t + W * max(0.0, 1 - m / 0.082), abs=1e-12) and t <= r < t + W, (o, t, m, r)
+        assert r == pytest.approx(t + W * max(0.0, 1 - m / pitch), abs=1e-12) and t <= r < t + W, (o, t, m, r)
     assert sum(r > t for _, t, _, r in flown) >= 5
 
 

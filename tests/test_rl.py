@@ -60,12 +60,12 @@ def test_short_ppo_trains_saves_loads_and_evaluates_deterministically(scene, tmp
 
 
 # A varied scene cut down to one choice that must follow one observation: the robot's mass is drawn
-# (6.2-9.5 g) and observed, the counterbalance is chosen (5-11 g). Measured before writing the test
-# (mbd-fast, 3 frames, m3 swept over 3-15 g): the whole row needs about 6 g for a 6.2 g robot,
-# 7-8 g for 7.7 g and 10 g for 9.5 g, so no single counterbalance suits every draw.
+# (6.2-11 g) and observed, the counterbalance is chosen (5-12 g). Measured before writing the test
+# (mbd-fast, 3 frames, m3 swept over 3-15 g by 0.5 g): the whole row needs 6-7.5 g for a 6.2 g robot,
+# 7-9.5 g for 7.7 g and 9.5-11.5 g for 11 g, so no single counterbalance suits every draw.
 BALANCE = {"scene.frames": 3, "sim.fidelity": "mbd-fast",
-           "tunable": [{"name": "design.m3", "low": 0.005, "high": 0.011}],
-           "context": [{"name": "design.m2", "low": 0.0062, "high": 0.0095}]}
+           "tunable": [{"name": "design.m3", "low": 0.005, "high": 0.012}],
+           "context": [{"name": "design.m2", "low": 0.0062, "high": 0.011}]}
 
 
 def test_training_makes_the_design_follow_the_context_the_way_that_scores(tmp_path):

@@ -28,7 +28,7 @@ def test_the_md_sheet_gives_the_configs_parts_in_mm_and_g(tmp_path, capsys):
     assert _row(sheet, "mass at (La, h) (m3)") == "6.50 g (6.5 one-yen coins)"
     # the torso's card is what the robot's 7.71 g leaves after the arm, coins and handrail
     assert _row(sheet, "torso strip below the axle / its card (m2 less the parts listed here)") == \
-        "87.4 mm / 2.00 g (2.0 one-yen coins)"
+        "39.1 mm / 2.00 g (2.0 one-yen coins)"
     assert "0.877 N·mm/rad (linear)" in sheet and "0.92 N·mm" in sheet  # k·60 deg, the paper's sanity check
     assert "In the simulated world this design" in sheet and "Robustness: not assessed" in sheet
 

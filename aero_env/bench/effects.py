@@ -8,8 +8,9 @@ own fidelity; everything else stays as it is:
 | ``drag``                  | ``effects.drag: false``           | ``true``                      |
 | ``static_kinetic``        | ``effects.friction: static_kinetic`` | ``kinetic`` (one coefficient, no per-step switch) |
 | ``live_frames``           | ``effects.live_frames: 1``        | ``3`` (two more frames in the space) |
-| ``pivot_friction``        | ``design.pivot_friction: 1.0e-4`` | ``0`` (no motor at any skewer) |
-| ``axle_friction``         | ``design.axle_friction: 8.0e-6``  | ``0`` (no motor at the arm's axle) |
+| ``pivot_friction``        | ``design.pivot_friction: 1.185e-4``| ``0`` (no motor at any skewer) |
+| ``axle_friction``         | ``design.axle_friction: 4.5e-5``  | ``0`` (no motor at the arm's axle) |
+| ``spring_damping``        | ``design.spring_damping: 0``      | ``0.02`` (a card spring's loss)  |
 
 The two dry frictions are design values, not switches: "on" is each drawn design's own value
 (``SCENE_VALUE``), "off" is 0, which builds no part (see ``physics.swing_frame.coulomb_friction``).
@@ -32,6 +33,8 @@ EFFECTS = {
     "live_frames": ("scene.effects.live_frames", 3, 1),
     "pivot_friction": ("design.pivot_friction", SCENE_VALUE, 0.0),
     "axle_friction": ("design.axle_friction", SCENE_VALUE, 0.0),
+    # the leaf spring card's internal loss, a damping ratio of the size paper's loss tangent gives
+    "spring_damping": ("design.spring_damping", 0.02, 0.0),
 }
 
 

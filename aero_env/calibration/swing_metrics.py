@@ -31,6 +31,10 @@ from ..results import SimResult, Swing
 
 LOWEST_THETA1_DEG = 90.0  # the handrail is straight below the axis here: the robot is at its lowest
 OMEGA1_PROBE_DEG = 80.0  # the paper's MBD quotes theta1' (~1.1 rad/s) near theta1 = 80 deg (Sec. 7.3)
+# Where theta1's dip is looked for: past the catch's first 10 deg (the catch's own transient) and up to
+# Eq. (1)'s balance near 125 deg, past which every swing slows as the moment turns against it; the paper's
+# dip (~1.1 rad/s near 80 deg) and its contact-shift jump near 115 deg lie inside.
+DIP_WINDOW_DEG = (65.0, 125.0)
 
 # name -> (unit, meaning); the metrics a targets file may name, in report order
 METRICS: dict[str, tuple[str, str]] = {
@@ -40,10 +44,13 @@ METRICS: dict[str, tuple[str, str]] = {
     "theta1_detach_deg": ("deg", "frame angle at the slip-off"),
     "theta2_min_deg": ("deg", "smallest robot line angle while hooked"),
     "theta2_max_deg": ("deg", "largest robot line angle while hooked"),
+    "theta2_mid_deg": ("deg", "the middle of theta2's range while hooked: the angle it oscillates about"),
     "t_lowest": ("s", f"time from the catch when theta1 first rises through {LOWEST_THETA1_DEG:g} deg (robot lowest)"),
     "alpha_at_lowest_deg": ("deg", f"arm angle alpha when theta1 first rises through {LOWEST_THETA1_DEG:g} deg"),
     "omega1_at_80_deg": ("rad/s", f"theta1' when theta1 first rises through {OMEGA1_PROBE_DEG:g} deg"),
     "mean_omega1": ("rad/s", "mean theta1' over the swing: (detach - catch angle) / duration"),
+    "omega1_dip": ("rad/s", f"lowest theta1' while theta1 turns from {DIP_WINDOW_DEG[0]:g} to {DIP_WINDOW_DEG[1]:g} deg"),
+    "theta1_at_dip_deg": ("deg", "theta1 where that lowest theta1' falls"),
 }
 
 
@@ -121,9 +128,23 @@ def metrics_of(sw: SwingTrace) -> dict[str, float | None]:
     t_lowest = rising_crossing(sw.t, sw.theta1, LOWEST_THETA1_DEG)
     t_probe = rising_crossing(sw.t, sw.theta1, OMEGA1_PROBE_DEG)
     mean_omega1 = math.radians(s.theta1_detach_deg - s.theta1_catch_deg) / s.swing_duration
+    dip_rate, dip_at = theta1_dip(sw.theta1, sw.omega1)
     values = dict(swing_duration=s.swing_duration, theta1_catch_deg=s.theta1_catch_deg,
                   theta2_catch_deg=s.theta2_catch_deg, theta1_detach_deg=s.theta1_detach_deg,
-                  theta2_min_deg=s.theta2_min_deg, theta2_max_deg=s.theta2_max_deg, t_lowest=t_lowest,
+                  theta2_min_deg=s.theta2_min_deg, theta2_max_deg=s.theta2_max_deg,
+                  theta2_mid_deg=0.5 * (s.theta2_min_deg + s.theta2_max_deg), t_lowest=t_lowest,
                   alpha_at_lowest_deg=value_at(sw.t_robot, sw.alpha, t_lowest),
-                  omega1_at_80_deg=value_at(sw.t, sw.omega1, t_probe), mean_omega1=mean_omega1)
+                  omega1_at_80_deg=value_at(sw.t, sw.omega1, t_probe), mean_omega1=mean_omega1,
+                  omega1_dip=dip_rate, theta1_at_dip_deg=dip_at)
     return {name: (None if values[name] is None else float(values[name])) for name in METRICS}
+
+
+def theta1_dip(theta1_deg: np.ndarray, omega1: np.ndarray) -> tuple[float | None, float | None]:
+    """(theta1' at its lowest within :data:`DIP_WINDOW_DEG`, theta1 there), or (None, None) when the
+    swing has no row in the window."""
+    lo, hi = DIP_WINDOW_DEG
+    inside = np.flatnonzero((theta1_deg >= lo) & (theta1_deg <= hi))
+    if inside.size == 0:
+        return None, None
+    i = inside[int(np.argmin(omega1[inside]))]
+    return float(omega1[i]), float(theta1_deg[i])

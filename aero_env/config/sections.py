@@ -13,6 +13,7 @@ from dataclasses import dataclass, field, fields
 from types import MappingProxyType
 from typing import Any, Mapping
 
+from ..inertia import min_Ld, torso_build
 from ..units import GRAVITY
 from .validation import ConfigError, did_you_mean
 
@@ -30,8 +31,10 @@ class Design:
 
     La: float = spec(0.0483, "m", "axis to counterbalance, along the frame", 0.0, 1.0, lo_open=True)
     Lb: float = spec(0.0517, "m", "axis to handrail (the hook's seat)", 0.0, 1.0, lo_open=True)
-    Lc: float = spec(0.03, "m", "two-link model: joint (hook) to robot centre; sets I2 with Ld", 0.0, 0.3)
-    Ld: float = spec(0.06, "m", "two-link model: joint (hook) to bottom of torso; sets I2 with Lc", 0.0, 0.5, lo_open=True)
+    Lc: float = spec(0.03, "m", "the arm (Table 1); the paper's two-link model: joint (hook) to robot centre, sets I2 "
+                     "with Ld", 0.0, 0.3)
+    Ld: float = spec(0.06, "m", "hook to the torso's bottom with the arm at alpha_max (Table 1, Appendix A): sets the "
+                     "built torso's length; the paper's two-link model: sets I2 with Lc", 0.0, 0.5, lo_open=True)
     h: float = spec(0.005, "m", "counterbalance offset normal to the frame", -0.1, 0.1)
     m1: float = spec(0.004, "kg", "swing frame mass (I1 = 2*m1/3*(La^2+Lb^2-La*Lb))", 0.0, 0.1, lo_open=True)
     m2: float = spec(0.00771, "kg", "robot mass as Table 1 counts it: torso card + coins + arm + the handrail "
@@ -39,35 +42,55 @@ class Design:
     m3: float = spec(0.0072, "kg", "counterbalance mass (point mass at (La, h))", 0.0, 0.1, lo_open=True)
     dT: float = spec(0.0, "N·m", "frame's own moment at theta1 = 0 without robot and counterbalance", -0.1, 0.1)
     spring_k: float = spec(8.77e-4, "N·m/rad", "leaf-spring stiffness (torque = k·(alpha - alpha_min))", 0.0, 0.1, lo_open=True)
+    spring_damping: float = spec(0.0, "-", "the leaf spring card's internal damping as a damping ratio of the arm "
+                                 "swinging on the spring about its axle (c = 2·zeta·sqrt(k·m_arm·arm_length²/3)); "
+                                 "paper's loss tangent is a few hundredths, so zeta ~0.01-0.03 (0: none, no cost)",
+                                 0.0, 2.0)
     mu_s: float = spec(0.542, "-", "static friction, arm tip on handrail", 0.0, 10.0)
     mu_k: float = spec(0.409, "-", "kinetic friction, arm tip on handrail (<= mu_s)", 0.0, 10.0)
     arm_length: float = spec(0.03, "m", "arm: torso axle to hook tip", 0.0, 0.3, lo_open=True)
     arm_mass: float = spec(0.0015, "kg", "arm mass (part of m2), a uniform rod", 0.0, 0.1, lo_open=True)
-    torso_length: float = spec(0.0874, "m", "torso card strip, from the axle down (fitted: docs/physics.md)", 0.0, 0.5, lo_open=True)
     coin_mass: float = spec(0.004, "kg", "coins on the torso (part of m2; four 1-yen coins of 1 g)", 0.0, 0.1)
     coin_radius: float = spec(0.01, "m", "coin radius (a 1-yen coin is 20 mm across)", 0.0, 0.1)
-    coin_offset: float = spec(0.0869, "m", "axle to the coins' centre, along the torso (fitted: docs/physics.md)", 0.0, 0.5)
     handrail_mass: float = spec(0.00021, "kg", "the handrail's card, counted in m2 by Table 1 and carried by the "
                                 "frame at the seat (docs/physics.md: 0.21 g, not the 2.1 g the text prints)",
                                 0.0, 0.01)
-    pivot_friction: float = spec(1.0e-4, "N·m", "Coulomb friction torque of each frame's bamboo skewer in its card "
+    pivot_friction: float = spec(1.185e-4, "N·m", "Coulomb friction torque of each frame's bamboo skewer in its card "
                                  "shaft hole (0: no part built)", 0.0, 0.01)
-    axle_friction: float = spec(8.0e-6, "N·m", "Coulomb friction torque at the arm's axle in the torso (0: no part "
+    axle_friction: float = spec(4.25e-5, "N·m", "Coulomb friction torque at the arm's axle in the torso (0: no part "
                                 "built)", 0.0, 0.01)
     alpha_min_deg: float = spec(60.0, "deg", "arm angle with the spring straight (arm snapped forward)", 0.0, 180.0)
     alpha_max_deg: float = spec(120.0, "deg", "arm angle with the spring fully bent", 0.0, 180.0)
     rest_angle_deg: float = spec(55.0, "deg", "frame angle theta1 at rest, counterbalance against the stopper", -90.0, 270.0)
     stop_angle_deg: float = spec(180.0, "deg", "frame angle theta1 at the end stop", -90.0, 270.0)
-    notch_angle_deg: float = spec(65.72, "deg", "handrail notch bisector direction (world) at the rest angle", -180.0, 180.0)
+    notch_angle_deg: float = spec(64.73, "deg", "handrail notch bisector direction (world) at the rest angle", -180.0, 180.0)
     notch_opening_deg: float = spec(90.0, "deg", "angle between the handrail notch's two faces", 30.0, 150.0)
-    notch_back_face: float = spec(0.00426, "m", "handrail notch face that rises toward the back (at rest)", 0.0, 0.1, lo_open=True)
-    notch_front_face: float = spec(0.00584, "m", "handrail notch face that rises toward the front (at rest)", 0.0, 0.1, lo_open=True)
+    notch_back_face: float = spec(0.00572, "m", "handrail notch face that rises toward the back (at rest)", 0.0, 0.1, lo_open=True)
+    notch_front_face: float = spec(0.01095, "m", "handrail notch face that rises toward the front (at rest)", 0.0, 0.1, lo_open=True)
     handrail_thickness: float = spec(0.001, "m", "card thickness of the handrail faces", 0.0, 0.01, lo_open=True)
     hook_radius: float = spec(0.001, "m", "radius of the arm tip's contact edge", 0.0, 0.01, lo_open=True)
     Cd: float = spec(1.05, "-", "drag coefficient (drag effect)", 0.0, 10.0)
     rho: float = spec(1.29, "kg/m^3", "air density (drag effect)", 0.0, 100.0)
     frame_width: float = spec(0.01, "m", "projected width of a frame, per unit length (drag effect)", 0.0, 0.1)
     robot_width: float = spec(0.02, "m", "projected width of torso and arm (drag effect)", 0.0, 0.1)
+
+    # Derived from Table 1, never set: a config that names one is told what it follows from.
+    DERIVED = MappingProxyType({
+        "torso_length": "the torso card's length follows from design.Ld (hook to the torso's bottom at "
+                        "alpha_max), design.arm_length and design.alpha_max_deg; set design.Ld",
+        "coin_offset": "the coins sit flush with the torso's bottom, one design.coin_radius above it; set design.Ld "
+                       "or design.coin_radius",
+    })
+
+    @property
+    def torso_length(self) -> float:
+        """The torso card strip below the axle (m): its bottom Ld from the hook at alpha_max."""
+        return float(torso_build(self.Ld, self.arm_length, self.alpha_max_deg, self.coin_radius)[0])
+
+    @property
+    def coin_offset(self) -> float:
+        """Axle to the coins' centre along the torso (m): flush with its bottom."""
+        return float(torso_build(self.Ld, self.arm_length, self.alpha_max_deg, self.coin_radius)[1])
 
 
 @dataclass(frozen=True)
@@ -90,7 +113,7 @@ class Scene:
     """The row of frames and the start state."""
 
     frames: int = spec(8, "-", "swing frames in the row", 2, 1000)
-    pitch: float = spec(0.082, "m", "horizontal distance between neighbouring frame axes", 0.0, 0.5, lo_open=True)
+    pitch: float = spec(0.076, "m", "horizontal distance between neighbouring frame axes", 0.0, 0.5, lo_open=True)
     rise: float = spec(0.002, "m", "height gained per frame (the incline of the row)", -0.1, 0.1)
     theta2_start_deg: float = spec(81.0, "deg", "robot line angle at the first catch (brief: 80-81)", 0.0, 180.0)
     floor_drop: float = spec(0.15, "m", "floor depth below the axis of the frame the robot left", 0.0, 2.0, lo_open=True)
@@ -200,9 +223,12 @@ def _check_design(d: Design) -> None:
         raise ConfigError(f"design.dT = {d.dT!r}: the frame's own moment would put its centre of mass beyond its "
                           f"ends, allowed [{-lim:.3g}, {lim:.3g}] N·m (m1·g·max(La, Lb) with design.m1 = {d.m1!r}, "
                           f"design.La = {d.La!r}, design.Lb = {d.Lb!r})")
-    if d.coin_offset > d.torso_length:
-        raise ConfigError(f"design.coin_offset = {d.coin_offset!r}: the coins sit on the torso card of "
-                          f"design.torso_length = {d.torso_length!r}, allowed [0, {d.torso_length}] m")
+    ld_min = float(min_Ld(d.arm_length, d.alpha_max_deg, d.coin_radius))
+    if d.Ld < ld_min:
+        hi = Design.__dataclass_fields__["Ld"].metadata["hi"]
+        raise ConfigError(f"design.Ld = {d.Ld!r}: the torso below the axle must hold the coins (2 x "
+                          f"design.coin_radius = {d.coin_radius!r}) with design.arm_length = {d.arm_length!r} at "
+                          f"design.alpha_max_deg = {d.alpha_max_deg!r}, allowed [{ld_min:.4g}, {hi}] m")
     parts = d.arm_mass + d.coin_mass + d.handrail_mass
     if parts >= d.m2:
         hi = Design.__dataclass_fields__["m2"].metadata["hi"]

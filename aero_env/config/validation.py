@@ -117,6 +117,10 @@ def _build(cls, data: Any, path: str):
         raise ConfigError(f"{path}: must be a mapping of keys to values, got {data!r}")
     known = {f.name: f for f in fields(cls)}
     unknown = sorted(map(str, set(data) - set(known)))
+    derived = getattr(cls, "DERIVED", {})
+    for name in unknown:
+        if name in derived:
+            raise ConfigError(f"{path}.{name}: derived, not set: {derived[name]}")
     if unknown:
         raise _unknown_key(f"{path}.{unknown[0]}", unknown[0], known, f"{path}.")
     kwargs = {}

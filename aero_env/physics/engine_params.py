@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 from .. import units
 from ..config import Config
-from ..inertia import RobotParts, frame_inertia
+from ..inertia import RobotParts, frame_inertia, spring_damping_coefficient
 from ..results import held_past_angle
 
 
@@ -55,6 +55,7 @@ class EngineParams:
     alpha_min: float
     alpha_max: float
     spring_k: float
+    spring_c: float  # the leaf spring's damping, torque per rate of alpha (0: none)
     mu_s: float
     mu_k: float
     # drag
@@ -108,6 +109,8 @@ def to_engine(cfg: Config) -> EngineParams:
         Lc=rigid_Lc * L, I2=rigid_I * I,
         alpha_min=rad(d.alpha_min_deg), alpha_max=rad(d.alpha_max_deg),
         spring_k=d.spring_k * units.TORQUE, mu_s=d.mu_s, mu_k=d.mu_k,
+        spring_c=float(spring_damping_coefficient(d.spring_k, d.spring_damping, d.arm_mass, d.arm_length))
+        * units.TORQUE * units.TIME,
         drag_coeff=0.5 * d.rho * units.DENSITY * d.Cd,
         frame_width=d.frame_width * L, robot_width=d.robot_width * L,
         frames=s.frames, pitch=s.pitch * L, rise=s.rise * L, theta2_start=rad(s.theta2_start_deg),

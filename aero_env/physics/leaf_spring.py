@@ -8,6 +8,11 @@ pymunk's DampedRotarySpring measures its angle as ``a.angle - b.angle`` (the opp
 RotaryLimitJoint's ``b.angle - a.angle``). With a = torso and b = arm that angle is
 ``pi/2 - alpha``, so the spring's rest angle is ``pi/2 - alpha_min`` and its torque argument
 is ``-da``. tests/test_physics.py checks the sign: a free robot's arm snaps to alpha_min.
+
+``damping`` (``design.spring_damping`` as a coefficient) is the card's internal loss: pymunk's own
+damping term of the same constraint, which opposes the relative rate of torso and arm inside the C
+solver, so it costs nothing when 0 and no Python per step when on; with ``stiffening`` pymunk still
+applies it beside the custom torque.
 """
 
 from __future__ import annotations
@@ -22,10 +27,10 @@ from .robot import Robot
 class LinearLeafSpring:
     name = "linear"
 
-    def __init__(self, robot: Robot, k: float, alpha_min: float):
+    def __init__(self, robot: Robot, k: float, alpha_min: float, damping: float = 0.0):
         self.robot, self.k, self.alpha_min = robot, k, alpha_min
         # Runs entirely inside pymunk's C solver: no Python per step.
-        self.constraint = pymunk.DampedRotarySpring(robot.torso, robot.arm, math.pi / 2 - alpha_min, k, 0.0)
+        self.constraint = pymunk.DampedRotarySpring(robot.torso, robot.arm, math.pi / 2 - alpha_min, k, damping)
 
     def add_to(self, space: pymunk.Space) -> None:
         space.add(self.constraint)
@@ -51,8 +56,8 @@ class LinearLeafSpring:
 class StiffeningLeafSpring(LinearLeafSpring):
     name = "stiffening"
 
-    def __init__(self, robot: Robot, k: float, alpha_min: float):
-        super().__init__(robot, k, alpha_min)
+    def __init__(self, robot: Robot, k: float, alpha_min: float, damping: float = 0.0):
+        super().__init__(robot, k, alpha_min, damping)
         rest = self.constraint.rest_angle
         half_k = 0.5 * k
 

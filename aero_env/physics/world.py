@@ -71,7 +71,7 @@ class World:
             self.contact = PinnedHook(self.robot, self.frames[0])
         else:
             self.robot = Robot(p)
-            self.spring = SPRING_LAWS[fx.spring_law](self.robot, p.spring_k, p.alpha_min)
+            self.spring = SPRING_LAWS[fx.spring_law](self.robot, p.spring_k, p.alpha_min, p.spring_c)
             self.contact = HookContact(self.robot.tip, self.frames,
                                        friction_law(fx.friction, p.mu_s, p.mu_k, p.slip_speed,
                                                     p.collision_slop))

@@ -13,14 +13,11 @@ The default table (:data:`DEFAULT_TOLERANCES`) is what a maker with a ruler, sci
 scale and card gets; each entry carries its reason. Lengths are the ones a maker cuts or marks:
 
 * cut or marked (±0.5 mm): ``La``, ``Lb``, ``h`` (where the counterbalance sits on the frame),
-  ``arm_length``, ``torso_length`` (card strips), ``notch_back_face`` and ``notch_front_face``
-  (the handrail notch's cut faces), and the row's skewer holes in the crossbeams: ``scene.pitch``
-  and ``scene.rise``. ``coin_offset`` is linked to ``torso_length``: the coins are glued flush
-  with the torso's end (their lower edge at its bottom), so they move with the cut, and the
-  config's check ``coin_offset <= torso_length`` holds in every build (scaled by the same
-  factor, the coins move within 0.01 mm of the end's shift). Drawn apart, a prototype whose
-  coins sit 0.5 mm from the end would be an invalid build about one draw in ten.
-* left out: ``Lc`` and ``Ld`` (the two-link model's lengths, not parts anyone cuts),
+  ``arm_length`` and ``Ld`` (card strips: the torso's length follows from ``Ld``, and the coins,
+  glued flush with its end, move with it), ``notch_back_face`` and ``notch_front_face`` (the
+  handrail notch's cut faces), and the row's skewer holes in the crossbeams: ``scene.pitch`` and
+  ``scene.rise``.
+* left out: ``Lc`` (the paper's two-link arm; the built arm is ``arm_length``),
   ``handrail_thickness`` and ``hook_radius`` (the card's thickness, set by the mill),
   ``coin_radius`` (minted), the drag widths (drag is off by default and its widths are
   projections, not cuts) and ``scene.floor_drop`` (the table the row stands on).
@@ -84,8 +81,8 @@ DEFAULT_TOLERANCES: tuple[Tol, ...] = (
     _length("design.Lb", "the handrail's arm of the frame, cut with a knife along a ruler"),
     _length("design.h", "the counterbalance's offset from the frame line, marked and glued by hand"),
     _length("design.arm_length", "the arm strip, axle hole to hook tip, cut by hand"),
-    Tol("design.torso_length", absolute=LENGTH_MM, linked=("design.coin_offset",),
-        reason="the torso strip below the axle, cut by hand; the coins, glued flush with its end, move with it"),
+    _length("design.Ld", "the torso strip below the axle, cut by hand (its bottom is Ld from the hook; the coins, "
+            "glued flush with its end, move with it)"),
     _length("design.notch_back_face", "the handrail notch's back face, cut by hand"),
     _length("design.notch_front_face", "the handrail notch's front face, cut by hand"),
     _length("scene.pitch", "the distance between skewer holes in the crossbeams, marked by hand"),

@@ -31,7 +31,7 @@ G = units.GRAVITY
 def flight_accel(p, arm_held, pa, pt, wa, wt):
     """Accelerations of (phi_a, phi_t) in flight, and the arm stop's load (generalised force on alpha)."""
     c, s = math.cos(pa - pt), math.sin(pa - pt)
-    tau = spring_torque(p, pa - pt - p[P.alim])
+    tau = spring_torque(p, pa - pt - p[P.alim], wa - wt)
     Ka, Kt = p[P.Ka], p[P.Kt]
     kc, ks = p[P.Kat] * c, p[P.Kat] * s
     ta = axle_friction(p, wa - wt)

@@ -32,11 +32,12 @@ def clip(v, lo, hi):
 
 
 @kernel
-def spring_torque(p, da):
-    """The leaf spring's torque pushing alpha back toward alpha_min: k·da (linear), k/2·da·|da| (stiffening)."""
+def spring_torque(p, da, w_alpha):
+    """The leaf spring's torque pushing alpha back toward alpha_min: k·da (linear), k/2·da·|da| (stiffening),
+    plus the card's damping against alpha's rate, c·w_alpha (``design.spring_damping``)."""
     if p[P.stiff] > 0.0:
-        return p[P.k] * da * 0.5 * abs(da)
-    return p[P.k] * da
+        return p[P.k] * da * 0.5 * abs(da) + p[P.spring_c] * w_alpha
+    return p[P.k] * da + p[P.spring_c] * w_alpha
 
 
 @kernel
@@ -109,7 +110,7 @@ def stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt):
     w1s, wa2, wt2 = w1 * w1, wa * wa, wt * wt
     Bx = -m * Hx * w1s - Pa * ca * wa2 - Pt * ct * wt2  # the bodies' centripetal terms at the hook
     By = -m * Hy * w1s - Pa * sa * wa2 - Pt * st * wt2
-    tau = spring_torque(p, pa - pt - p[P.alim])
+    tau = spring_torque(p, pa - pt - p[P.alim], wa - wt)
     # the tip turning in the notch: a smooth Coulomb torque up to x[piv] (PIVOT_SLIP_RATE), and a sliding
     # hook's friction moment x[tq0]
     tp = x[X.tq0] - x[X.piv] * clip((wa - w1) * (1.0 / PIVOT_SLIP_RATE), -1.0, 1.0)
@@ -173,7 +174,7 @@ def slide_eval(p, x, th1, s, pa, pt, w1, ws, wa, wt):
     bHx, bHy = -Hx * w1w1 - uwy * w1ws2, -Hy * w1w1 + uwx * w1ws2  # the hook's centripetal + Coriolis terms
     Bx = m * bHx - Pa * ca * wa2 - Pt * ct * wt2
     By = m * bHy - Pa * sa * wa2 - Pt * st * wt2
-    tau = spring_torque(p, pa - pt - p[P.alim])
+    tau = spring_torque(p, pa - pt - p[P.alim], wa - wt)
     tp = x[X.tq0]
     tf, ta = skewer_friction(p, w1), axle_friction(p, wa - wt)
     r0 = -p[P.mg] * Hx + p[P.cfr] * c1 + p[P.m3gh] * s1 - (Hx * By - Hy * Bx) - tp + tf

@@ -16,7 +16,7 @@ P = IntEnum("P", [
     # the robot from its parts: mass, arm and torso geometry, first and second moments about hook and axle
     "m", "mg", "Pa", "Pt", "Pag", "Ptg", "Ja", "Jt", "Pat", "Ka", "Kt", "Kat",
     # the leaf spring and the arm's stops
-    "k", "stiff", "amin", "amax", "alim", "snap", "line_amax",
+    "k", "stiff", "spring_c", "amin", "amax", "alim", "snap", "line_amax",
     # the hook in the notch: friction, tip radius, the faces (directions u, inward normals n), their ends
     "mu_s", "mu_k", "phi_s", "phi_k", "r_hook", "clear", "p0x", "p0y",
     "ubx", "uby", "nbx", "nby", "ufx", "ufy", "nfx", "nfy", "s_end_b", "s_end_f",

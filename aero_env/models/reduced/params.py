@@ -13,15 +13,15 @@ import numpy as np
 
 from ... import units
 from ...config import Config, ConfigError
-from ...inertia import RobotParts
+from ...inertia import RobotParts, min_Ld, spring_damping_coefficient
 from ...results import held_past_angle
 from .constants import DRY_FRICTION_RATE, DRY_FRICTION_STEP, MOUTH_END_REACH, STEP
 from .layout import P
 
 # The config fields the model reads, by dotted key (everything else is ignored).
 DESIGN_KEYS = ("La", "Lb", "Lc", "Ld", "h", "m1", "m2", "m3", "dT", "spring_k", "mu_s", "mu_k", "arm_length",
-               "arm_mass", "torso_length", "coin_mass", "coin_radius", "coin_offset", "handrail_mass",
-               "pivot_friction", "axle_friction", "alpha_min_deg", "alpha_max_deg", "rest_angle_deg", "stop_angle_deg",
+               "arm_mass", "coin_mass", "coin_radius", "handrail_mass",
+               "pivot_friction", "axle_friction", "spring_damping", "alpha_min_deg", "alpha_max_deg", "rest_angle_deg", "stop_angle_deg",
                "notch_angle_deg", "notch_opening_deg", "notch_back_face", "notch_front_face",
                "handrail_thickness", "hook_radius")
 SCENE_KEYS = ("pitch", "rise", "theta2_start_deg", "floor_drop")
@@ -92,7 +92,8 @@ def check_raw(raw) -> None:
          "design.dT would put the frame's centre of mass beyond its ends"),
         (d("arm_mass") + d("coin_mass") + d("handrail_mass") >= d("m2"),
          "design.m2 must exceed its listed parts arm_mass + coin_mass + handrail_mass"),
-        (d("coin_offset") > d("torso_length"), "design.coin_offset must not exceed design.torso_length"),
+        (d("Ld") < min_Ld(d("arm_length"), d("alpha_max_deg"), d("coin_radius")),
+         "design.Ld must leave a torso that holds the coins"),
     ]
     for bad, what in checks:
         if bad.any():
@@ -138,6 +139,7 @@ def param_table(raw: Mapping[str, np.ndarray], dt: float) -> np.ndarray:
     Ka, Kt, Kat = c["Ka"], c["Kt"], c["Kat"] = Ja - Pa**2 / m2, Jt - Pt**2 / m2, Pat - Pa * Pt / m2
     c["Pag"], c["Ptg"] = Pa * g, Pt * g
     k, stiff = c["k"], c["stiff"] = d("spring_k"), raw["spring_stiffening"]
+    c["spring_c"] = spring_damping_coefficient(k, d("spring_damping"), d("arm_mass"), d("arm_length"))
     c["amin"], c["amax"] = amin, amax
     c["alim"] = np.pi + amin  # the spring is straight at phi_a - phi_t = this
     c["snap"] = amin + 0.5 * (amax - amin)  # the runner's "snapped" arm angle (half its range)
