@@ -18,6 +18,17 @@ NEAR_STOP_DEG = 10.0  # a turn-back this close to the stop is the high-friction 
 STOP_TOLERANCE = 1e-3  # rad: a frame this close to its stop angle is at its stop
 REST_MOVE = math.radians(0.5)  # a frame that never turned this far from its rest angle has not moved
 
+# ---- when a catch is a traversal ----
+# A catch counts as a traversal only once the caught frame has *carried* the robot: turned it, hook still on,
+# through its lowest point, theta1 >= CARRIED_THETA1_DEG (the handrail straight below the axis; the angle
+# aero_env.calibration.swing_metrics.LOWEST_THETA1_DEG names). A touch held sim.contact_hold with the hook
+# within sim.catch_seat of the seat is a catch, but a hook can be caught 2.95 mm off its seat and fall out
+# 0.08 s later: that catch did not hold, and the run ends there (missed_catch: catch_did_not_hold). The last
+# frame's catch completes the row by the same rule, not by "the frame reached its stop": on every frame the
+# prototype lets go near 160 deg, short of the 180 deg stop, so a stop rule would fail it on the last frame.
+# The frame-0 swing is the start from rest, no catch: its t_carried is recorded but counts nothing.
+CARRIED_THETA1_DEG = 90.0
+
 
 def held_past_angle(d):
     """theta1 (rad) past which a hooked frame that turns back was carried by its momentum and kept the
@@ -51,6 +62,9 @@ class Swing:
     theta2_min_deg: float | None = None
     theta2_max_deg: float | None = None
     catch_seat_mm: float | None = None  # the hook centre's closest approach to the seat while the catch held
+    # s: when the frame, the hook still on, had turned the robot through its lowest point (theta1 reached
+    # CARRIED_THETA1_DEG): from then the catch counts as a traversal. None where it never did.
+    t_carried: float | None = None
     # The state when a catch is committed (sim.contact_hold after the first touch, the step theta2_catch_deg is
     # read at); the pymunk runner fills them for catches made from a flight, None for the start and the reduced model.
     omega1_catch: float | None = None  # rad/s: the caught frame's rate theta1'
@@ -61,7 +75,7 @@ class Swing:
 
 @dataclass
 class SimResult:
-    traversals: int
+    traversals: int  # catches on frames 1, 2, ... in turn that carried the robot (Swing.t_carried; CARRIED_THETA1_DEG)
     frames: int
     outcome: str
     reason: str
@@ -70,7 +84,8 @@ class SimResult:
     sim_time: float
     wall_time: float
     miss_distance: float | None = None  # m: closest the hook came to the next handrail's seat in the failed transfer
-    # (from the last catch on, the hanging included: whether the transfer was a flight is ``flew``)
+    # (from the last counted traversal on, the hanging included: whether the transfer was a flight is ``flew``; a
+    # catch that did not hold is still that transfer, so its miss is how close the hook came to that frame's seat)
     health: dict = field(default_factory=dict)  # largest joint drift (m), limit overshoot (deg), penetration (m)
     fidelity: str = "mbd"  # the sim.fidelity preset the run was made at
     trace: dict | None = field(default=None, repr=False)
@@ -80,9 +95,10 @@ class SimResult:
     @property
     def flew(self) -> bool:
         """Whether the run ended in a flight: the hook let go of the last frame that caught it (that swing
-        records its detach, ``t_detach``) and the robot flew towards the next frame, which did not catch it.
+        records its detach, ``t_detach``) and the robot flew towards the next frame, which did not catch it, or
+        (a catch that did not hold) it let go of that frame before the frame carried it.
         False for a completed run and for runs whose hook never let go (stalled, no_detach), whatever
-        ``miss_distance`` says (it is measured from the last catch on, the hanging included)."""
+        ``miss_distance`` says (it is measured from the last traversal on, the hanging included)."""
         return self.outcome != "completed" and bool(self.swings) and self.swings[-1].t_detach is not None
 
     def to_json_dict(self) -> dict:
@@ -158,6 +174,12 @@ def never_came_down(origin: int) -> str:
 def spring_too_weak(origin: int, swung_deg: float) -> str:
     return (f"{_after(origin)}: the arm had swung only {swung_deg:.0f} deg forward when the hook came down to frame "
             f"{origin + 1}'s handrail (spring too weak)")
+
+
+def catch_did_not_hold(origin: int, seat: float, held: float, theta1_deg: float) -> str:
+    return (f"{_after(origin)}: frame {origin + 1} caught the hook {seat * 1e3:.1f} mm from its seat but it let go "
+            f"after {held:.2f} s at theta1 = {theta1_deg:.0f} deg, before the frame carried the robot through its "
+            f"lowest point (a catch that did not hold)")
 
 
 def passed_behind(origin: int, distance: float) -> str:

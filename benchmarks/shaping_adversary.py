@@ -15,8 +15,9 @@
    code with :mod:`aero_env.reward`:
 
    * traversals counted from the swings' catch records: frames 1, 2, ... in order, each caught
-     after the previous swing's detach with the hook seated (``catch_seat_mm <= sim.catch_seat``);
-     the reward's whole part is that count (the whole row for ``completed``);
+     after the previous swing's detach with the hook seated (``catch_seat_mm <= sim.catch_seat``) and,
+     in the trace, turned through 90 deg (the robot at its lowest) while touching the hook: a catch that
+     held; the reward's whole part is that count (the whole row for ``completed``);
    * partial credit (the rest) only where the trace shows a flight after the last catch (the hook
      touching no handrail for ``sim.contact_hold``), then equal to
      ``w · max(0, 1 - miss_distance / pitch)``, and below 1;
@@ -57,13 +58,21 @@ G = 9.81  # m/s^2; the audit's tolerance is a scale, and this rounding of g move
 
 def seated_catches(result, cfg: Config) -> int:
     """Consecutive traversals counted from the swings' catch records: swing j is on frame j, caught
-    after swing j-1 let go of frame j-1, with the hook's centre within ``sim.catch_seat`` of the seat."""
+    after swing j-1 let go of frame j-1, with the hook's centre within ``sim.catch_seat`` of the seat, and
+    the catch held: the trace shows frame j, touching the hook, turned through 90 deg (the robot at its
+    lowest point)."""
     seat_mm = cfg.sim.catch_seat * 1e3 * (1 + 1e-9)
+    tr = result.trace
+    if tr is None:
+        raise ConfigError("seated_catches: the run has no trace; simulate(cfg, trace=True)")
     count = 0
     for prev, sw in zip(result.swings, result.swings[1:]):
         if sw.frame != prev.frame + 1 or prev.t_detach is None or not sw.t_catch > prev.t_detach:
             break
         if sw.catch_seat_mm is None or sw.catch_seat_mm > seat_mm:
+            break
+        held = (np.asarray(tr["frame"]) == sw.frame) & (np.asarray(tr["contact"]) == sw.frame)
+        if not np.any(np.asarray(tr["theta1"])[held] >= math.radians(90.0)):
             break
         count += 1
     return count

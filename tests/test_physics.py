@@ -57,6 +57,53 @@ def test_arm_snaps_forward_in_flight(paper_run):
     assert np.degrees(tr["alpha"][flight]).min() < s0.alpha_detach_deg - 30.0
 
 
+# ---------------------------------------------------------------- a traversal is a catch that holds
+# Draw 811 of 1000 uniform draws (seed 1) over configs/paper.yaml's action box: frame 1 catches the hook 2.9 mm
+# from its seat (inside sim.catch_seat = 3 mm, so a seated catch), and the hook falls out 0.07 s later with the
+# frame still at its rest angle. Counting the catch at once paid a traversal for it.
+CATCH_LETS_GO = {"design.m3": 0.008870481393502905, "design.h": 0.004307748494066102,
+                 "design.La": 0.039542183982443906, "design.spring_k": 0.001449317469550685,
+                 "design.mu_s": 0.31890379084115184, "design.mu_k": 0.24064880157570312}
+
+
+def carried_in_trace(result, frame: int) -> bool:
+    """From the trace alone: did ``frame``, touching the hook, turn through 90 deg (the robot at its lowest)?"""
+    tr = result.trace
+    rows = (tr["frame"] == frame) & (tr["contact"] == frame)
+    return bool(np.any(np.degrees(tr["theta1"][rows]) >= 90.0))
+
+
+def test_every_traversal_is_a_frame_that_carried_the_robot(paper_run):
+    r = paper_run
+    carried = [carried_in_trace(r, s.frame) for s in r.swings]
+    assert all(carried) and r.traversals == sum(carried[1:]) == 7
+    assert all(s.t_catch < s.t_carried < (s.t_detach or math.inf) for s in r.swings)
+    # the last frame completes the row by the same rule: its catch alone ends nothing; the run goes on until
+    # that frame has carried the robot through its lowest point, which takes as long as on any other frame
+    last = r.swings[-1]
+    assert r.sim_time == pytest.approx(last.t_carried) and r.sim_time - last.t_catch > 0.1
+    took = [s.t_carried - s.t_catch for s in r.swings[1:]]
+    assert max(took) - min(took) < 0.15
+    tail = r.trace["t"] > last.t_carried - 0.02
+    assert np.all(r.trace["contact"][tail] == last.frame)
+
+
+def test_a_catch_that_lets_go_before_it_carried_the_robot_is_no_traversal(paper_cfg):
+    cfg = paper_cfg.replace(CATCH_LETS_GO)
+    r = simulate(cfg, trace=True)
+    first, caught = r.swings
+    seat_mm = caught.catch_seat_mm
+    assert seat_mm <= cfg.sim.catch_seat * 1e3  # a seated catch: the old rule counted it
+    assert caught.t_detach is not None and caught.t_carried is None and not carried_in_trace(r, 1)
+    assert (r.outcome, r.traversals) == ("missed_catch", 0), r.reason
+    assert r.reason == (f"after leaving frame 0: frame 1 caught the hook {seat_mm:.1f} mm from its seat but it let go "
+                        f"after {caught.swing_duration:.2f} s at theta1 = {caught.theta1_detach_deg:.0f} deg, before "
+                        f"the frame carried the robot through its lowest point (a catch that did not hold)")
+    # the run ends when the let-go is committed; the transfer it failed came within the catch's distance
+    assert r.sim_time == pytest.approx(caught.t_detach + cfg.sim.contact_hold)
+    assert r.flew and r.miss_distance == pytest.approx(seat_mm * 1e-3)
+
+
 # ---------------------------------------------------------------- failure modes
 FAILURES = {
     "weak_spring": ({"design.spring_k": 8.77e-5}, "missed_catch"),

@@ -17,6 +17,7 @@ from aero_env.simulation import simulate
 from aero_env.reward import batch_reward, reward, rewards
 
 from .conftest import PAPER, ROOT
+from .test_physics import CATCH_LETS_GO
 
 W = 0.5
 FLIGHT_MISSES = ("fell_short", "missed_catch")
@@ -124,6 +125,12 @@ def test_the_audit_rejects_a_reward_no_run_backs():
     unseated = dataclasses.replace(proto, swings=proto.swings[:1] + [
         dataclasses.replace(s, catch_seat_mm=5.0) for s in proto.swings[1:]])
     assert "seated catches" in " ".join(ADV.audit(2.0, unseated, cfg))
+    # a seated catch that let go before its frame carried the robot is no traversal (test_physics.CATCH_LETS_GO)
+    lcfg = load_config(PAPER, {**CATCH_LETS_GO, "scene.frames": 3, "env.reward_shaping": W})
+    let_go = simulate(lcfg, trace=True)
+    assert let_go.outcome == "missed_catch" and let_go.swings[1].t_detach is not None, let_go.reason
+    assert ADV.audit(reward(let_go, lcfg), let_go, lcfg) == []
+    assert "seated catches" in " ".join(ADV.audit(1.0, let_go, lcfg))  # what counting the catch at once paid
     hot = dataclasses.replace(hung, health={**hung.health, "penetration": 1.0})
     assert "health penetration" in " ".join(ADV.audit(reward(hung, hcfg), hot, hcfg))
     rising = hung.trace["energy"] + np.where(np.arange(len(hung.trace["t"])) > 50, 1e-3, 0.0)

@@ -18,8 +18,10 @@ class FlightRecord:
         self.t_detach = t_detach
         self.theta1_detach = theta1_detach
         self.alpha_detach = alpha_detach
-        self.seat, self.snapped_alpha = seat, snapped_alpha  # the next frame's seat; the arm half-way snapped
-        self.height = hook_y - seat.y  # hook height above the next frame's seat when it let go
+        # the next frame's seat (None on the last frame, which a detach never flies from: see phases.LettingGo);
+        # the arm half-way snapped
+        self.seat, self.snapped_alpha = seat, snapped_alpha
+        self.height = hook_y - seat.y if seat is not None else math.nan  # hook height above it when it let go
         self.crossing: tuple[float, float] | None = None  # (hook x - seat x, alpha) as the hook sinks below the seat
         self.t_cross: float | None = None
         self.t_snap: float | None = None  # when the arm had swung through half its range
@@ -32,7 +34,7 @@ class FlightRecord:
             return
         if self.t_snap is None and robot.alpha < self.snapped_alpha:
             self.t_snap = t - self.t_detach
-        if self.crossing is None:
+        if self.crossing is None and self.seat is not None:
             hook = robot.hook_world()
             if hook.y < self.seat.y:
                 self.crossing = (hook.x - self.seat.x, robot.alpha)

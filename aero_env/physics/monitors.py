@@ -72,7 +72,7 @@ class Monitors:
 
 
 class Recorder:
-    """The trace (every ``sim.trace_every`` runner steps) and the animation poses."""
+    """The trace (every ``sim.trace_every`` runner steps, and the run's last step) and the animation poses."""
 
     def __init__(self, world: World, trace: bool, trace_every: int, pose_steps: int):
         self.world = world
@@ -88,7 +88,11 @@ class Recorder:
             self.poses.append((t, *self.world.pose()))
 
     def finish(self) -> None:
-        if self.pose_steps and self.poses[-1][0] < self.world.t:  # the run's last moment, whatever the cadence
+        # the run's last moment, whatever the cadence: the state its ending was decided on (a catch that carried
+        # the robot, a committed detach) is in the record
+        if self.trace and (not self.rows or self.rows[-1][0] < self.world.t):
+            self.rows.append(self._row(self.world.t, self.world.sample()))
+        if self.pose_steps and self.poses[-1][0] < self.world.t:
             self.poses.append((self.world.t, *self.world.pose()))
 
     def _row(self, t: float, sample) -> tuple:

@@ -1,15 +1,21 @@
 """The runner's phases: what a run is doing between two events, and what ends each phase.
 
 ==============  ==========================================================================
-``Hanging``     the hook on frame i: the frame turns; checks its peak, its stop and its time
+``Hanging``     the hook on frame i: the frame turns; checks its peak, its stop and its time, and
+                when it has carried the robot through its lowest point (``CARRIED_THETA1_DEG``):
+                from then the catch counts as a traversal, and on the last frame the row is complete
 ``LettingGo``   contact lost, for less than ``sim.contact_hold``: a bounce returns to Hanging,
-                a lasting loss commits the detach (the state at the first step without contact)
+                a lasting loss commits the detach (the state at the first step without contact);
+                a caught frame that had not carried the robot ends the run (a catch that did not hold)
 ``Flight``      the robot free: watches the arm's snap and the hook's fall past the next seat;
                 the floor or ``sim.flight_timeout`` ends the run as a named miss
 ``Catching``    the hook touches frame i+1: a touch held ``sim.contact_hold`` with the hook's
-                centre within ``sim.catch_seat`` of the seat is a catch; a touch that never
-                seats is a graze, and the flight goes on
+                centre within ``sim.catch_seat`` of the seat is a catch (and Hanging follows); a
+                touch that never seats is a graze, and the flight goes on
 ==============  ==========================================================================
+
+"Carried" is read on the check cadence while hanging, and at the detach from the state at the first
+step without contact (a frame at ``CARRIED_THETA1_DEG`` or past it there carried the robot).
 
 Each phase's :meth:`step` runs every runner step (contact bookkeeping, so catch and detach times
 are step-exact) and returns the phase that follows; :meth:`check` runs on the check cadence and
@@ -22,7 +28,7 @@ import math
 
 from .. import results as say
 from .. import units
-from ..results import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, Swing
+from ..results import CARRIED_THETA1_DEG, REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, Swing
 from .miss import FlightRecord, classify_miss
 
 
@@ -41,7 +47,12 @@ class Run:
         self.snapped_alpha = p.alpha_min + 0.5 * (p.alpha_max - p.alpha_min)  # the arm swung half its range
         self.near_stop = p.stop_angle - STOP_TOLERANCE
         self.turn_back = math.radians(TURN_BACK_DEG)
+        self.carried_angle = math.radians(CARRIED_THETA1_DEG)
         self.swings: list[Swing] = []
+        self.traversals = 0  # catches that carried the robot: frames 1..traversals
+        # engine units: the hook's closest approach to the seat of frame traversals + 1 since the last traversal
+        # (the runner samples it on the check cadence; a catch adds its touch's every step)
+        self.closest = math.inf
         self.ending: tuple[str, str] | None = None
 
     def next_seat(self, origin: int):
@@ -49,6 +60,16 @@ class Run:
 
     def seat_distance(self, frame) -> float:
         return (self.robot.hook_world() - frame.hook_seat_world()).length
+
+    def carried(self, swing: Swing, t: float) -> tuple[str, str] | None:
+        """The frame of ``swing`` has carried the robot through its lowest point at ``t``: its catch counts
+        (the start's swing on frame 0 counts nothing). Returns the ending when that completes the row."""
+        swing.t_carried = t
+        if swing.frame > 0:
+            self.traversals = swing.frame
+            if swing.frame == len(self.frames) - 1:
+                return "completed", say.completed(swing.frame)
+        return None
 
 
 class Hanging:
@@ -75,6 +96,10 @@ class Hanging:
         run, frame, sim, p = self.run, self.frame, self.run.sim, self.run.p
         theta1 = frame.theta
         self.peak = max(self.peak, theta1)
+        if self.swing.t_carried is None and theta1 >= run.carried_angle:
+            done = run.carried(self.swing, t)
+            if done:
+                return done
         if theta1 >= run.near_stop:
             self.t_stop = t if self.t_stop is None else self.t_stop
             if t - self.t_stop >= sim.stop_hold:
@@ -132,6 +157,13 @@ class LettingGo:
             sw.t_detach, sw.theta1_detach_deg = h.t_touch, math.degrees(rec.theta1_detach)
             sw.swing_duration = h.t_touch - sw.t_catch
             sw.alpha_detach_deg = math.degrees(rec.alpha_detach)
+            if sw.t_carried is None and rec.theta1_detach >= run.carried_angle:  # carried since the last check
+                run.ending = run.carried(sw, h.t_touch)
+            if sw.t_carried is None and sw.frame > 0:  # caught, let go before it was carried: no traversal
+                run.ending = ("missed_catch", say.catch_did_not_hold(
+                    sw.frame - 1, units.length_to_si(sw.catch_seat_mm), sw.swing_duration, sw.theta1_detach_deg))
+            if run.ending:
+                return self
             return Flight(run, rec)
         return self
 
@@ -199,6 +231,7 @@ class Catching:
 
     def _caught(self, t: float):
         run, frame = self.flight.run, self.flight.next
+        run.closest = min(run.closest, self.closest)  # the transfer goes on until the frame carries the robot
         run.world.set_active(frame.index)
         th2 = math.degrees(run.robot.theta2())
         hook = frame.body.world_to_local(run.robot.hook_world()) - frame.hook_seat_local  # engine units (mm)
@@ -208,9 +241,7 @@ class Catching:
                                 robot_speed_catch=units.velocity_to_si(run.robot.com_velocity().length),
                                 hook_along_catch_mm=units.length_to_si(hook.x) * 1e3,
                                 hook_across_catch_mm=units.length_to_si(hook.y) * 1e3))
-        if frame.index == len(run.frames) - 1:
-            run.ending = ("completed", say.completed(frame.index))
-        return Hanging(run, frame, t)
+        return Hanging(run, frame, t)  # a traversal (or, on the last frame, the row) once the frame carries it
 
     def check(self, t: float):
         return self.flight.check(t, self.closest)  # ending while still touching unseated is a graze

@@ -2,11 +2,21 @@
 
 A run starts with the hook caught on frame 0 at its rest angle (t = 0 is that catch; the
 paper's measured swing is the next one, entered from a flight). A traversal succeeds when the
-robot, having left frame i, is caught by frame i+1 with its hook seated. The run ends at the
-first failure or when the last frame catches the robot, and names its outcome:
+robot, having left frame i, is caught by frame i+1 with its hook seated (a touch held
+``sim.contact_hold`` within ``sim.catch_seat`` of the seat) *and that catch holds*: the frame,
+the hook still on, carries the robot through its lowest point (theta1 reaches
+:data:`~aero_env.results.CARRIED_THETA1_DEG`, the handrail straight below the axis). A hook caught
+2.95 mm off its seat can fall out 0.08 s later; counting the catch at once would pay for that. The
+last frame completes the row by the same rule, not by reaching its stop: on every frame the
+prototype lets go near 160 deg, short of the 180 deg stop, so "until the frame reaches its stop"
+would fail the prototype on the last frame. A caught robot that lets go (a committed detach) before
+it is carried ends the run as ``missed_catch`` (a catch that did not hold); one that stalls or
+holds on (stalled, no_detach) before it is carried ends as that, and the catch is not counted
+either. The run ends at the first failure or when the last frame has carried the robot, and names
+its outcome:
 
 ==============  =====================================================================
-``completed``   caught by the last frame of the row
+``completed``   caught by the last frame of the row, which carried the robot through its lowest point
 ``no_detach``   the hook still holds ``stop_hold`` after the frame reached its stop, or the frame
                 turned back from near its stop with the hook holding, or still holds it past its
                 balance angle after ``swing_timeout`` (friction too high)
@@ -14,7 +24,8 @@ first failure or when the last frame catches the robot, and names its outcome:
                 stop, or the swing outlasted ``swing_timeout`` short of its balance angle
 ``fell_short``  the hook slipped off too low (friction too low), or passed behind the next handrail
 ``missed_catch`` the arm did not swing forward in time (spring too weak or too stiff), the hook
-                passed ahead of the next handrail, or touched it without seating (a graze)
+                passed ahead of the next handrail, touched it without seating (a graze), or was
+                caught and let go before the frame carried it (a catch that did not hold)
 ``unstable``    a non-finite or exploding state, or mechanical energy rose above tolerance
 ``timeout``     the run reached ``sim.t_max`` (should not happen: every phase has a limit)
 ==============  =====================================================================
@@ -67,7 +78,6 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None,
                             catch_seat_mm=run.seat_distance(frames[0])))
     phase = Hanging(run, frames[0], 0.0)
     ending: tuple[str, str] = ("timeout", say.reached_t_max(sim.t_max))
-    closest = math.inf  # engine units: hook to the next seat since the last catch, on the check cadence
     origin, seat = 0, run.next_seat(0)
 
     world_step, recording = world.step, recorder.recording
@@ -78,8 +88,8 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None,
         if run.ending:
             ending = run.ending
             break
-        if world.active != origin:  # a catch moved the robot on: the miss distance starts again
-            origin, seat, closest = world.active, run.next_seat(world.active), math.inf
+        if run.traversals != origin:  # a catch that carried the robot moved it on: the miss distance starts again
+            origin, seat, run.closest = run.traversals, run.next_seat(run.traversals), math.inf
         sample = None
         if phase.every_step or n % check_every == 0:
             stop = phase.check(t)
@@ -91,13 +101,13 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None,
             if bad:
                 ending = ("unstable", bad)
                 break
-            closest = min(closest, math.hypot(sample.hook[0] - seat.x, sample.hook[1] - seat.y))
+            run.closest = min(run.closest, math.hypot(sample.hook[0] - seat.x, sample.hook[1] - seat.y))
             phase.observe(sample)
         if recording:
             recorder.after_step(n, t, sample)
 
     recorder.finish()
-    return _result(cfg, world, run, monitors, recorder, ending, closest, wall0, bool(poses_every))
+    return _result(cfg, world, run, monitors, recorder, ending, run.closest, wall0, bool(poses_every))
 
 
 def _result(cfg, world, run, monitors, recorder, ending, closest, wall0, posed) -> SimResult:
@@ -107,7 +117,7 @@ def _result(cfg, world, run, monitors, recorder, ending, closest, wall0, posed) 
             sw.catch_seat_mm = units.length_to_si(sw.catch_seat_mm) * 1e3
     outcome, reason = ending
     return SimResult(
-        traversals=len(run.swings) - 1, frames=len(world.frames), outcome=outcome, reason=reason, swings=run.swings,
+        traversals=run.traversals, frames=len(world.frames), outcome=outcome, reason=reason, swings=run.swings,
         energy=monitors.energy(world.energy()), sim_time=world.t, wall_time=time.perf_counter() - wall0,
         miss_distance=None if outcome == "completed" or not math.isfinite(closest) else units.length_to_si(closest),
         health=monitors.health(), trace=recorder.trace_dict(), poses=recorder.poses if posed else None,
