@@ -73,6 +73,13 @@ def carried_in_trace(result, frame: int) -> bool:
     return bool(np.any(np.degrees(tr["theta1"][rows]) >= 90.0))
 
 
+def test_carried_is_the_robots_lowest_point_as_the_calibration_names_it():
+    from aero_env.calibration.swing_metrics import LOWEST_THETA1_DEG
+    from aero_env.results import CARRIED_THETA1_DEG
+
+    assert CARRIED_THETA1_DEG == LOWEST_THETA1_DEG == 90.0  # the handrail straight below the axis
+
+
 def test_every_traversal_is_a_frame_that_carried_the_robot(paper_run):
     r = paper_run
     carried = [carried_in_trace(r, s.frame) for s in r.swings]

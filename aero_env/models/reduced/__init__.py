@@ -54,8 +54,13 @@ is guided to the seat; one that slides back out along it grazes) and an inelasti
 **Outcomes and times** follow :mod:`aero_env.physics.run` (its thresholds are restated in the
 phases): ``t_detach`` is when the hook leaves the handrail, ``t_catch`` when it enters the next
 mouth, ``sim_time`` when the runner would stop (a decided miss: the centre of mass reaching the
-floor, in closed form, or the flight timeout; the last catch + ``contact_hold``). Stalls the runner
-only ends by its timeouts are ended early (``STALL_WINDOW``) and reported at the runner's time.
+floor, in closed form, or the flight timeout; the end of the step in which the last frame carried
+the robot through its lowest point; a catch that did not hold: its detach + ``contact_hold``).
+A catch is a traversal only once its frame has carried the robot through its lowest point
+(``results.CARRIED_THETA1_DEG``, read at the end of each hooked step and at the detach, ``t_carried``);
+a caught robot that lets go before that ends the run (``missed_catch``: a catch that did not hold).
+Stalls the runner only ends by its timeouts are ended early (``STALL_WINDOW``) and reported at the
+runner's time.
 
 **Numerics.** RK4 with a fixed step (``STEP``; ``sim.dt`` when the config's ``sim.model`` is
 ``reduced``), events at step ends, release and catch times interpolated, float64 throughout.

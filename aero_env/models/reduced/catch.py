@@ -14,30 +14,28 @@ import math
 from .jit import kernel
 
 from ... import units
-from .hooked_dynamics import (com_velocity_from_hook, hook_from_com, hook_on_frame, solve_hooked, stick_eval,
-                              stick_step, theta2)
-from .layout import HOOKED, R_COMPLETED, O, P, W, X
-from .transitions import finish, start_swing
+from .hooked_dynamics import com_velocity_from_hook, hook_from_com, hook_on_frame, solve_hooked, stick_eval, stick_step
+from .layout import HOOKED, P, W, X
+from .transitions import start_swing
 
 G = units.GRAVITY
 
 
 @kernel
-def catch(p, x, out, sw, t_c, t1, gap, frames):
+def catch(p, x, sw, t_c, t1, gap):
     """The hook reached the seat of frame fi + 1 at t_c (x holds the robot's angles and rates then): the inelastic
-    catch, then the hooked motion to t1, or the end of the row."""
+    catch, then the hooked motion to t1. The catch is a traversal (on the last frame: the row complete) once the
+    frame has carried the robot through its lowest point (transitions.carried)."""
     j = int(x[X.fi]) + 1
     t_m = x[X.t_mouth]
     x[X.fi] = j
-    out[O.traversals] = j
+    x[X.carried] = 0.0
     sw[W.t_catch, j] = t_m
     sw[W.catch_seat, j] = gap  # the model then sets the hook on the seat: 0 for the rest of the swing
+    # the transfer goes on until the frame carries the robot: its miss distance is the hook's closest approach to
+    # this seat, which the model sets the hook on (no nearer approach is measured after the catch)
+    x[X.closest] = min(x[X.closest], gap)
     pa, pt, wa, wt = x[X.pa], x[X.pt], x[X.wa], x[X.wt]
-    if j == frames - 1:
-        sw[W.theta1_catch, j] = math.degrees(p[P.rest])
-        sw[W.theta2_catch, j] = math.degrees(theta2(p, pa, pt))
-        finish(x, out, R_COMPLETED, t_m + p[P.contact_hold], math.nan, math.nan)
-        return
     tau = t_c - x[X.t0f]
     vcx, vcy = x[X.vx0], x[X.vy0] - G * tau
     dvx, dvy = com_velocity_from_hook(p, pa, pt, wa, wt)

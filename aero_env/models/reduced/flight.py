@@ -185,7 +185,7 @@ def seat_reached(p, dx0, dy0, dx1, dy1, dt):
 
 
 @kernel
-def flight_stage(p, x, out, sw, t, dt, frames, detail, parked):
+def flight_stage(p, x, out, sw, t, dt, detail, parked):
     """Advance a flying design from t to t + dt: the arm's motion, the hook's path, the catch or the miss."""
     if x[X.t0f] > t:  # released at the end of this step's hooked part: it flies from the next step
         return
@@ -246,7 +246,7 @@ def flight_stage(p, x, out, sw, t, dt, frames, detail, parked):
             x[X.in_notch] = 1.0
             x[X.pa], x[X.pt] = pa0 + lam_c * (pa - pa0), pt0 + lam_c * (pt - pt0)
             x[X.wa], x[X.wt] = wa0 + lam_c * (wa - wa0), wt0 + lam_c * (wt - wt0)
-            catch(p, x, out, sw, t + lam_c * dt, t1, gap, frames)
+            catch(p, x, sw, t + lam_c * dt, t1, gap)
             return
         if verdict == GRAZED:
             x[X.graze] = min(x[X.graze], gap)

@@ -21,7 +21,7 @@ from .hooked_dynamics import (friction_cone, hook_on_frame, hooked_energy, norma
 from .impacts import impact
 from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_HELD_LONG, R_STOP_HOLD, R_TIMEOUT,
                      R_TURN_BACK, R_TURN_NEAR_STOP, P, W, X)
-from .transitions import finish, parked_energy, release_hook, start_slide, track_energy
+from .transitions import CARRIED, carried, finish, parked_energy, release_hook, start_slide, track_energy
 
 
 @kernel
@@ -57,7 +57,7 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
     piv = mu * p[P.r_hook] * normal_sum(p, x, Fx, Fy, c1, s1, mu)
     if release:
         x[X.piv] = piv
-        release_hook(p, x, sw, t, t)
+        release_hook(p, x, out, sw, t, t)
         return False
     if slide:
         x[X.piv] = piv
@@ -83,7 +83,7 @@ def slide_stage(p, x, out, sw, t, dt, detail, parked):
     tq0 = p[P.r_hook] * x[X.mu_sig] * max(N, 0.0) * (1.0 - 2.0 * x[X.face])
     if N < 0.0:
         x[X.tq0] = tq0
-        release_hook(p, x, sw, t, t)
+        release_hook(p, x, out, sw, t, t)
         return
     if stops_let_go(x, lam1, lamA):
         a0, a1, a2, a3 = slide_eval(p, x, *y)[:4]
@@ -100,11 +100,11 @@ def hooked_events(p, x, out, sw, t, dt, s_before, was_sliding, detail, parked):
     t1 = t + dt
     th1, w1, k1 = x[X.th1], x[X.w1], x[X.lock1k]
     if (th1 >= p[P.stop] and w1 > 0.0 and k1 != 2.0) or (th1 <= p[P.rest] and w1 < 0.0 and k1 != 1.0):
-        impact(p, x, sw, t1, True)
+        impact(p, x, out, sw, t1, True)
     if x[X.phase] == HOOKED and x[X.lockA] == 0.0:
         alpha = x[X.pa] - x[X.pt] - math.pi
         if alpha > p[P.amax] or alpha < p[P.amin]:
-            impact(p, x, sw, t1, False)
+            impact(p, x, out, sw, t1, False)
     if x[X.phase] != HOOKED:
         return
     if was_sliding and x[X.slide] > 0.0:  # the slide's end (a slide an impact has just started waits a step)
@@ -112,7 +112,7 @@ def hooked_events(p, x, out, sw, t, dt, s_before, was_sliding, detail, parked):
         s_end = p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
         if sig > 0.0 and s >= s_end:  # past the face's end: the hook lets go, at the interpolated time
             frac = min(max((s_end - s_before) / ((s - s_before) if s != s_before else 1.0), 0.0), 1.0)
-            release_hook(p, x, sw, t1, t + frac * dt)
+            release_hook(p, x, out, sw, t1, t + frac * dt)
             return
         back = s <= 0.0  # back in the corner, where the other face stops it
         if back or x[X.ws] * sig <= 0.0:  # ... or the slide came to rest: it sticks
@@ -139,14 +139,19 @@ def swing_checks(p, x, out, sw, t1, detail, parked):
         if not th2 <= sw[W.theta2_max, fi]:
             sw[W.theta2_max, fi] = th2
         track_energy(out, hooked_energy(p, x, fi * p[P.rise]) + parked_energy(parked, fi, False))
-    # the distance from the hook to the next frame's seat
-    c1, s1 = math.cos(th1), math.sin(th1)
-    px, py = p[P.p0x] + x[X.s] * x[X.ux], p[P.p0y] + x[X.s] * x[X.uy]
-    hx = fi * p[P.pitch] + c1 * px - s1 * py
-    hy = fi * p[P.rise] + s1 * px + c1 * py
-    nx = (fi + 1) * p[P.pitch] + p[P.seatx]
-    ny = (fi + 1) * p[P.rise] + p[P.seaty]
-    x[X.closest] = min(x[X.closest], math.hypot(hx - nx, hy - ny))
+    # the frame carried the robot through its lowest point: its catch is a traversal (the last frame's: the row)
+    if th1 >= CARRIED and math.isnan(sw[W.t_carried, fi]) and carried(x, out, sw, t1):
+        return
+    # the distance from the hook to the next frame's seat (once this frame's catch is a traversal: until then the
+    # transfer onto it goes on, and the model holds the hook on its seat)
+    if x[X.carried] > 0.0:
+        c1, s1 = math.cos(th1), math.sin(th1)
+        px, py = p[P.p0x] + x[X.s] * x[X.ux], p[P.p0y] + x[X.s] * x[X.uy]
+        hx = fi * p[P.pitch] + c1 * px - s1 * py
+        hy = fi * p[P.rise] + s1 * px + c1 * py
+        nx = (fi + 1) * p[P.pitch] + p[P.seatx]
+        ny = (fi + 1) * p[P.rise] + p[P.seaty]
+        x[X.closest] = min(x[X.closest], math.hypot(hx - nx, hy - ny))
     # the runner's checks
     peak = x[X.peak] = max(x[X.peak], th1)
     at_stop = th1 >= p[P.stop] - STOP_TOLERANCE

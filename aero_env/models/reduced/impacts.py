@@ -50,7 +50,7 @@ def arm_impact_lifts(p, x, tensile, jv, err, c1, s1, Hx, Hy):
 
 
 @kernel
-def impact(p, x, sw, t1, frame):
+def impact(p, x, out, sw, t1, frame):
     """An inelastic impact at the frame's stops (frame=True) or the arm's, at t1."""
     th1, pa, pt, s = x[X.th1], x[X.pa], x[X.pt], x[X.s]
     w1, wa, wt = x[X.w1], x[X.wa], x[X.wt]
@@ -118,7 +118,7 @@ def impact(p, x, sw, t1, frame):
         x[X.pa], x[X.pt], x[X.wa], x[X.wt] = fpa, fpt, fwa, fwt
         x[X.lockA], x[X.lockAk] = 1.0, kind
     if go:
-        release_hook(p, x, sw, t1, t1)
+        release_hook(p, x, out, sw, t1, t1)
         return
     was_sliding = x[X.slide] > 0.0
     if near and s > 0.0 and not (into and slide):

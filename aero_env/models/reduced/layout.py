@@ -47,8 +47,9 @@ X = IntEnum("X", [
     "lock1", "lock1k", "lockA", "lockAk",
     # the tip's turning friction (its magnitude, and the sliding friction's moment)
     "piv", "tq0",
-    # where the run is: phase, the frame the robot is on
-    "phase", "fi",
+    # where the run is: phase, the frame the robot is on, whether that frame has carried the robot through its
+    # lowest point (results.CARRIED_THETA1_DEG: its catch is a traversal; 1 from the start on frame 0, no catch)
+    "phase", "fi", "carried",
     # the swing's bookkeeping
     "t_catch", "peak", "t_stop", "closest", "barrier", "rec",
     # flight: the centre of mass' start and velocity, release time and state, the hook's place
@@ -58,13 +59,13 @@ X = IntEnum("X", [
 ], start=0)
 
 O = IntEnum("O", [  # noqa: E741 (the run's Outputs)
-    "reason", "v1", "v2", "traversals", "end_time", "last_frame", "miss",
+    "reason", "v1", "v2", "v3", "traversals", "end_time", "last_frame", "miss",
     "e_first", "e_last", "e_min", "e_gain", "e_rise",
 ], start=0)
 
 W = IntEnum("W", [
     "t_catch", "theta1_catch", "theta2_catch", "t_detach", "theta1_detach", "alpha_detach",
-    "theta2_min", "theta2_max", "catch_seat",
+    "theta2_min", "theta2_max", "catch_seat", "t_carried",
 ], start=0)
 
 # phases
@@ -74,12 +75,14 @@ OUTCOMES = ("completed", "no_detach", "stalled", "fell_short", "missed_catch")
 _C, _ND, _ST, _FS, _MC = range(5)
 # reasons: how the outcome's sentence is written (outputs.reason_text)
 (R_COMPLETED, R_STOP_HOLD, R_TURN_NEAR_STOP, R_TURN_BACK, R_TIMEOUT, R_BARRIER, R_STIFF, R_LOW,
- R_NEVER_DOWN, R_WEAK, R_BEHIND, R_AHEAD, R_AT_REST, R_BARRIER_REST, R_T_MAX, R_GRAZE, R_HELD_LONG) = range(17)
+ R_NEVER_DOWN, R_WEAK, R_BEHIND, R_AHEAD, R_AT_REST, R_BARRIER_REST, R_T_MAX, R_GRAZE, R_HELD_LONG,
+ R_LET_GO) = range(18)
 REASON_OUTCOME = {R_COMPLETED: _C, R_STOP_HOLD: _ND, R_TURN_NEAR_STOP: _ND, R_TURN_BACK: _ST, R_TIMEOUT: _ST,
                   R_BARRIER: _ST, R_STIFF: _MC, R_LOW: _FS, R_NEVER_DOWN: _MC, R_WEAK: _MC, R_BEHIND: _FS,
                   R_AHEAD: _MC, R_AT_REST: _ST, R_BARRIER_REST: _ST,
                   R_T_MAX: _ST,  # the runner's "timeout" (sim.t_max: no phase outlasts its own limit) reads stalled
-                  R_GRAZE: _MC, R_HELD_LONG: _ND}
+                  R_GRAZE: _MC, R_HELD_LONG: _ND,
+                  R_LET_GO: _MC}  # caught, let go before the frame carried the robot: a catch that did not hold
 
 # the arrays' widths, as constants the compiled code can read
 N_PARAMS, N_STATE, N_OUT, N_SWING = len(P), len(X), len(O), len(W)

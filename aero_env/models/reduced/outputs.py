@@ -10,8 +10,8 @@ import numpy as np
 from ... import results as say
 from ...results import TURN_BACK_DEG, SimResult, Swing
 from .layout import (OUTCOMES, R_AHEAD, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_BEHIND, R_COMPLETED, R_GRAZE,
-                     R_HELD_LONG, R_LOW, R_NEVER_DOWN, R_STIFF, R_STOP_HOLD, R_TIMEOUT, R_TURN_BACK, R_TURN_NEAR_STOP,
-                     R_WEAK, REASON_OUTCOME, O, P, W)
+                     R_HELD_LONG, R_LET_GO, R_LOW, R_NEVER_DOWN, R_STIFF, R_STOP_HOLD, R_TIMEOUT, R_TURN_BACK,
+                     R_TURN_NEAR_STOP, R_WEAK, REASON_OUTCOME, O, P, W)
 
 # the constants a reason's sentence quotes
 TEXT_KEYS = ("stop_hold", "stop", "held_past", "swing_timeout", "rest_timeout", "t_max")
@@ -22,12 +22,12 @@ _OUTCOME_OF_REASON = np.array([REASON_OUTCOME[r] for r in range(len(REASON_OUTCO
 class BatchResult:
     """What :func:`simulate_batch` returns: one entry per design (arrays of length n)."""
 
-    traversals: np.ndarray  # int: consecutive successful transfers
+    traversals: np.ndarray  # int: consecutive successful transfers (catches whose frame carried the robot)
     outcome: np.ndarray  # str: completed, no_detach, stalled, fell_short, missed_catch
     t_detach: np.ndarray  # s: the first swing's detach time (NaN if the hook never let go of frame 0)
     theta1_detach_deg: np.ndarray  # deg: frame 0's angle at that detach (NaN likewise)
     sim_time: np.ndarray  # s: simulated time at the run's end (the runner's rules: see the package docstring)
-    miss_distance: np.ndarray  # m: closest the hook came to the next seat after the last catch (NaN if completed);
+    miss_distance: np.ndarray  # m: closest the hook came to the next seat after the last traversal (NaN if completed);
     # the hanging is included, so only a run that ``flew`` (the property below) missed by it in flight
     frames: int
     swings: dict = field(repr=False, default_factory=dict)  # per-frame arrays (n, frames), NaN where not reached
@@ -74,7 +74,7 @@ def batch_result(table: np.ndarray, out: np.ndarray, sw: np.ndarray, frames: int
     return BatchResult(traversals=out[:, O.traversals].astype(np.int64), outcome=outcome,
                        t_detach=swings["t_detach"][:, 0].copy(), theta1_detach_deg=swings["theta1_detach"][:, 0].copy(),
                        sim_time=out[:, O.end_time].copy(), miss_distance=miss, frames=frames, swings=swings,
-                       reason_code=reason, reason_values=out[:, [O.v1, O.v2]].copy(),
+                       reason_code=reason, reason_values=out[:, [O.v1, O.v2, O.v3]].copy(),
                        last_frame=out[:, O.last_frame].astype(np.int64), energy=energy, wall_time=wall,
                        _text={k: table[:, P[k]].copy() for k in TEXT_KEYS})
 
@@ -95,7 +95,7 @@ def sim_result(res: BatchResult, i: int, fidelity: str) -> SimResult:
                             swing_duration=None if np.isnan(td) else float(td - tc),
                             alpha_detach_deg=opt(sw["alpha_detach"][i, j]),
                             theta2_min_deg=opt(sw["theta2_min"][i, j]), theta2_max_deg=opt(sw["theta2_max"][i, j]),
-                            catch_seat_mm=opt(sw["catch_seat"][i, j] * 1e3)))
+                            catch_seat_mm=opt(sw["catch_seat"][i, j] * 1e3), t_carried=opt(sw["t_carried"][i, j])))
     outcome = str(res.outcome[i])
     energy = {k: float(v[i]) for k, v in res.energy.items()} if res.energy is not None else {}
     return SimResult(traversals=int(res.traversals[i]), frames=res.frames, outcome=outcome, reason=res.reason(i),
@@ -104,7 +104,7 @@ def sim_result(res: BatchResult, i: int, fidelity: str) -> SimResult:
                      health=dict(joint_drift=0.0, limit_overshoot_deg=0.0, penetration=0.0), fidelity=fidelity)
 
 
-def reason_text(code: int, v1: float, v2: float, origin: int, c: dict) -> str:
+def reason_text(code: int, v1: float, v2: float, v3: float, origin: int, c: dict) -> str:
     """The sentence for a reason code, in the words the pymunk runner uses (:mod:`aero_env.results`); the
     energy-barrier stalls are this model's own. ``c``: the design's TEXT_KEYS constants."""
     if code == R_COMPLETED:
@@ -134,6 +134,8 @@ def reason_text(code: int, v1: float, v2: float, origin: int, c: dict) -> str:
         return say.released_low(origin, v1)
     if code == R_GRAZE:
         return say.grazed(origin, v1)
+    if code == R_LET_GO:  # origin: the frame that caught the hook
+        return say.catch_did_not_hold(origin - 1, v1, v2, v3)
     if code == R_NEVER_DOWN:
         return say.never_came_down(origin)
     if code == R_WEAK:

@@ -43,8 +43,10 @@ def start_state(p, x, out, sw):
     out[:] = math.nan
     sw[:, :] = math.nan
     out[O.reason], out[O.traversals], out[O.last_frame] = -1.0, 0.0, 0.0
+    out[O.v3] = math.nan
     out[O.e_min], out[O.e_gain], out[O.e_rise] = math.inf, 0.0, 0.0
     x[X.phase] = HOOKED
+    x[X.carried] = 1.0  # the start is no catch: the transfer it begins is to frame 1
     x[X.th1] = p[P.rest]
     # the robot hanging fully bent (alpha_max) with the line from its centre of mass to the hook at theta2_start
     # (the runner's place_hanging)
@@ -76,7 +78,7 @@ def run_design(p, frames, dt, detail, x, out, sw):
         if x[X.phase] == HOOKED:
             hooked_step(p, x, out, sw, t, dt, False, detail, parked)
         if x[X.phase] == FLIGHT:
-            flight_stage(p, x, out, sw, t, dt, frames, detail, parked)
+            flight_stage(p, x, out, sw, t, dt, detail, parked)
         if x[X.phase] == DONE:
             return
         if (k + 1) * dt >= p[P.t_max]:

@@ -11,23 +11,40 @@ import math
 from .jit import kernel
 
 from ... import units
-from ...results import TURN_BACK_DEG
+from ...results import CARRIED_THETA1_DEG, TURN_BACK_DEG
 from .constants import BARRIER_GRID, ENERGY_BARRIER_MARGIN
 from .hooked_dynamics import com_velocity_from_hook, hook_from_com, hooked_energy
-from .layout import DONE, FLIGHT, O, P, W, X
+from .layout import DONE, FLIGHT, R_COMPLETED, R_LET_GO, O, P, W, X
 
 G = units.GRAVITY
+CARRIED = math.radians(CARRIED_THETA1_DEG)  # a caught frame at this angle, hook on, has carried the robot
 
 
 @kernel
-def finish(x, out, reason, t_end, v1, v2):
-    """End the run with ``reason`` at t_end (v1, v2: the numbers its sentence quotes; NaN where it quotes none)."""
+def finish(x, out, reason, t_end, v1, v2, v3=math.nan):
+    """End the run with ``reason`` at t_end (v1, v2, v3: the numbers its sentence quotes; NaN where it quotes none)."""
     out[O.reason] = reason
     out[O.end_time] = t_end
     out[O.last_frame] = x[X.fi]
-    out[O.v1], out[O.v2] = v1, v2
+    out[O.v1], out[O.v2], out[O.v3] = v1, v2, v3
     out[O.miss] = x[X.closest]
     x[X.phase] = DONE
+
+
+@kernel
+def carried(x, out, sw, t):
+    """The frame the robot is on has carried it through its lowest point at t: its catch is a traversal (the start's
+    frame 0 counts nothing), and the next transfer's miss distance starts. Returns True if that completed the row."""
+    fi = int(x[X.fi])
+    sw[W.t_carried, fi] = t
+    if fi > 0:
+        out[O.traversals] = fi
+        x[X.carried] = 1.0
+        x[X.closest] = math.inf
+        if fi == sw.shape[1] - 1:
+            finish(x, out, R_COMPLETED, t, math.nan, math.nan)
+            return True
+    return False
 
 
 @kernel
@@ -60,7 +77,7 @@ def start_slide(p, x, face, sig):
 
 
 @kernel
-def release_hook(p, x, sw, t_state, t_det):
+def release_hook(p, x, out, sw, t_state, t_det):
     """The hook lets go of frame fi: flight from the current state (at time t_state); detach time t_det."""
     fi = int(x[X.fi])
     th1, pa, pt = x[X.th1], x[X.pa], x[X.pt]
@@ -88,6 +105,12 @@ def release_hook(p, x, sw, t_state, t_det):
     sw[W.t_detach, fi] = t_det
     sw[W.theta1_detach, fi] = math.degrees(th1)
     sw[W.alpha_detach, fi] = math.degrees(alpha)
+    if x[X.carried] == 0.0:  # caught, and not yet carried
+        if th1 >= CARRIED:  # carried since the last step's check
+            carried(x, out, sw, t_det)
+        else:  # a catch that did not hold: the run ends when the runner commits the detach
+            finish(x, out, R_LET_GO, t_det + p[P.contact_hold], sw[W.catch_seat, fi], t_det - sw[W.t_catch, fi],
+                   math.degrees(th1))
 
 
 @kernel
@@ -97,7 +120,6 @@ def start_swing(p, x, t):
     x[X.t_catch] = t
     x[X.peak] = x[X.th1]
     x[X.t_stop] = math.nan
-    x[X.closest] = math.inf
     e = hooked_energy(p, x, 0.0)
     top = -math.inf
     for i in range(BARRIER_GRID):
