@@ -1,6 +1,7 @@
 """The pymunk world against the paper: traversal, first swing, failure modes, energy, effects."""
 
 import math
+from unittest import mock
 
 import numpy as np
 import pymunk
@@ -126,6 +127,35 @@ def test_each_failure_mode_ends_the_run_at_the_first_transfer(paper_cfg, name):
     r = simulate(paper_cfg.replace(overrides))
     assert r.traversals == 0, (name, r.outcome, r.reason)
     assert r.outcome == outcome, (name, r.reason)
+
+
+@pytest.mark.parametrize("name", ["weak_spring", "low_friction", "catch_lets_go"])
+def test_the_miss_distance_is_the_hooks_closest_approach_to_the_next_seat(paper_cfg, name):
+    """SimResult.miss_distance against the hook's path read from pymunk after every step (the runner samples it
+    on its 5 ms check cadence, every step while the hook touches the next handrail): the hook's centre from the
+    arm's circle shape, the seat at (-Lb, 0) on frame 1's body. Each of these runs fails its first transfer, so
+    the transfer is the whole run. The runner's value can be no nearer than the closest step, and no farther than
+    the farthest step within half a check interval of it (one of those steps is a check)."""
+    import aero_env.physics.run as run_module
+
+    overrides = CATCH_LETS_GO if name == "catch_lets_go" else FAILURES[name][0]
+    cfg = paper_cfg.replace({**overrides, "scene.frames": 3})
+    path = []  # (t, hook centre to frame 1's seat, m)
+
+    class Watched(World):
+        def step(self):
+            super().step()
+            hook = next(sh for b in self.robot.bodies for sh in b.shapes if isinstance(sh, pymunk.Circle))
+            gap = hook.body.local_to_world(hook.offset) - self.frames[1].body.local_to_world((-cfg.design.Lb * 1e3, 0))
+            path.append((self.t, gap.length * 1e-3))
+
+    with mock.patch.object(run_module, "World", Watched):
+        r = run_module.simulate(cfg)
+    assert r.traversals == 0 and r.flew and r.miss_distance is not None, r.reason
+    t_min, closest = min(path, key=lambda row: row[1])
+    near = [gap for t, gap in path if abs(t - t_min) <= 0.5 * cfg.sim.check_interval + 1e-9]
+    assert closest <= r.miss_distance <= max(near)
+    assert r.miss_distance < 0.02  # these runs came near: 4.0 mm, 14 mm, 2.9 mm (the catch that did not hold)
 
 
 def test_low_and_high_friction_fail_differently_and_the_prototype_sits_between(paper_cfg, paper_run):
