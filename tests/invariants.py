@@ -13,7 +13,11 @@ Instead, an :class:`Observer` reads the pymunk bodies and shapes directly after 
    out here (linear 0.5·k·da², stiffening k·|da|³/6) and da from the two bodies' angles. In SI, with
    g = 9.81 m/s².
 2. **Penetration** with pymunk's own ``Shape.point_query`` on the handrail shapes in the space (signed
-   distance from the hook's centre to each rounded card segment), against the hook circle's radius.
+   distance from the hook's centre to each rounded card segment), against the hook circle's radius; and,
+   between every two consecutive steps, whether the hook's centre crossed a card's middle line (the
+   segment's ``a``-``b`` in its body's coordinates at each step): a hook that went through a card in one
+   step sank at least its radius + half the card into it, though after the step it reads shallow on the far
+   side.
 3. **Joint drift** from body positions: each pivot's anchor mapped to the world on both of its bodies
    with ``local_to_world``. The anchors are the model's facts (frame i turns about
    (i·pitch, i·rise) at its body origin; torso and arm share their origin at the axle; the pinned hook
@@ -129,6 +133,15 @@ def _gap(a: pymunk.Vec2d, b: pymunk.Vec2d) -> float:
     return (a - b).length
 
 
+def _crosses(p0, p1, a, b) -> bool:
+    """Whether the straight path p0 -> p1 crosses the segment a-b (strictly from one side to the other)."""
+    def side(p, q, r):
+        return (q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x)
+
+    s0, s1 = side(a, b, p0), side(a, b, p1)
+    return s0 * s1 < 0.0 and side(p0, p1, a) * side(p0, p1, b) <= 0.0
+
+
 class Observer:
     """Reads a world's pymunk bodies and shapes after each step.
 
@@ -158,6 +171,8 @@ class Observer:
         self._live = None  # the frames in the space when the parked part was last recounted
         self._parked_energy = self._parked_skewer = 0.0
         self.rows: list[dict] = []
+        self._hook_on = {}  # handrail segment -> the hook's centre in its body's coordinates after the last step
+        self._swept = 0.0  # deepest a crossing of a card's middle line since the last measured row (engine units)
         self.steps = 0
         self.worst = {"rise": 0.0, "gain": 0.0, "drift": 0.0, "depth": 0.0, "overshoot": 0.0, "speed": 0.0,
                       "finite": True}
@@ -199,12 +214,30 @@ class Observer:
                         default=0.0)
         return skewer * MM, robot * MM, any_joint * MM
 
+    def _rails(self) -> list:
+        return [sh for sh in self.world.space.shapes
+                if isinstance(sh, pymunk.Segment) and sh.body.body_type == pymunk.Body.DYNAMIC]
+
+    def sweep(self) -> None:
+        """Every step: did the hook's centre cross a card's middle line since the step before? (straight between
+        the two steps, in the card's own coordinates; a segment new to the space starts afresh)"""
+        if self.hook is None:
+            return
+        centre = self.hook.body.local_to_world(self.hook.offset)
+        seen = {}
+        for rail in self._rails():
+            now = rail.body.world_to_local(centre)
+            seen[rail] = now
+            before = self._hook_on.get(rail)
+            if before is not None and _crosses(before, now, rail.a, rail.b):
+                self._swept = max(self._swept, self.hook.radius + rail.radius)
+        self._hook_on = seen
+
     def depth(self) -> float:
         if self.hook is None:
             return 0.0
-        rails = [sh for sh in self.world.space.shapes
-                 if isinstance(sh, pymunk.Segment) and sh.body.body_type == pymunk.Body.DYNAMIC]
-        return hook_depth(self.hook, rails) * MM
+        swept, self._swept = self._swept, 0.0
+        return max(hook_depth(self.hook, self._rails()), swept) * MM
 
     def overshoot(self, live=None) -> float:
         """rad: the farthest any frame in the space has turned outside [rest, stop], or the arm outside
@@ -231,6 +264,7 @@ class Observer:
 
     def __call__(self) -> None:
         self.steps += 1
+        self.sweep()
         if (self.steps - 1) % self.every:
             return
         row = self.measure()

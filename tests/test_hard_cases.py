@@ -75,9 +75,12 @@ def test_extreme_designs_stay_sane_or_say_unstable(paper_cfg, name):
 
 
 # ---- time steps: a step too large is reported, never a wrong result ----
-# At 2 ms the hook's landing on the next handrail sinks it 1.3 mm into the card, past sim.max_penetration:
-# the run says unstable. (With the earlier fitted robot, twice Table 1's size, the same step grazed the
-# handrail unflagged; these were strict xfails until the robot was built to Table 1.)
+# At 2 ms the hook falls about 3 mm per step, as wide as the band (its 1 mm radius and the 1 mm card's half
+# each side of the card's middle) in which the contact sees a card. With the earlier fitted robot, twice Table
+# 1's size, its centre crossed frame 1's front card in one step and was called a graze that no monitor saw
+# (strict xfails here); the runner's tunnelling watch (monitors.TunnelWatch) now calls such a step unstable.
+# With the Table 1 robot the landing sinks the hook 1.3 mm into the card, past sim.max_penetration: unstable
+# too. At 1 ms the hook moves 1.5 mm per step and stays on its side.
 @pytest.mark.parametrize("dt", [0.00025, 0.001, 0.002, 0.005, 0.01])
 def test_large_time_steps_agree_or_say_unstable(paper_cfg, dt):
     hold = {"sim.dt": dt, "sim.contact_hold": max(0.01, 5 * dt), "scene.frames": 3}

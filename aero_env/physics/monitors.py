@@ -1,5 +1,6 @@
 """What the runner watches besides the events: energy, the health of the constraints, a
-finite state, and the recording of the trace and the animation poses.
+finite state, the hook tunnelling through a handrail card between two steps, and the recording
+of the trace and the animation poses.
 
 Every check reads the world once (:meth:`World.sample`) and compares it with limits that
 :mod:`engine_params` converted from the config; nothing here converts units.
@@ -51,6 +52,10 @@ class Monitors:
                     f"(sim.energy_tolerance): numerical error (try a smaller sim.dt or more sim.iterations)")
         return self._health(sample.health)
 
+    def went_through(self, depth: float) -> None:
+        """The hook went through a card between two checks: it sank at least ``depth`` (m) into it."""
+        self.worst[2] = max(self.worst[2], depth)
+
     def _health(self, measured: tuple) -> str | None:
         """Update the worst values; name the first constraint that gave more than its tolerance."""
         for i, (v, lim) in enumerate(zip(measured, self.limits)):
@@ -69,6 +74,63 @@ class Monitors:
     def health(self) -> dict:
         return dict(joint_drift=self.worst[0], limit_overshoot_deg=math.degrees(self.worst[1]),
                     penetration=self.worst[2])
+
+
+class TunnelWatch:
+    """Whether the hook's centre crossed the middle line of a handrail card between two runner steps.
+
+    The contact keeps the hook's centre at least ``hook_radius`` + half the card from the card's middle line,
+    so a centre on the other side of that line went through the card: in one step the hook moved farther than
+    the contact can see (pymunk finds contacts from the bodies' positions at each step's end, and a card
+    1 mm thick with a 1 mm hook leaves 3 mm across which the centre is in contact). The penetration monitor
+    cannot show it: it reads the depth after the step, and a hook that went through reads as shallow on the far
+    side. Watched every runner step from the detach until the next frame's catch commits (the flight and the
+    catch: where the hook meets a card at speed), against the next frame's two faces, in that frame's own
+    coordinates at each step (it may be turning), with the hook's centre read from the arm's body."""
+
+    def __init__(self, world: World, frame):
+        self.frame, self.arm = frame, world.robot.arm
+        self.tip = tuple(world.robot.hook_local)
+        self.faces = frame.faces  # (start x, y, unit direction x, y, length), the card's middle line, frame-local
+        self.clearance = world.p.hook_radius + frame.rail_radius
+        self.prev: tuple[float, float] | None = None
+        self.crossed = False
+
+    def step(self) -> str | None:
+        """After a runner step: why the run is unstable (the hook went through a card), or None."""
+        arm, body = self.arm, self.frame.body
+        ax, ay = arm.position
+        a = arm.angle
+        tx, ty = self.tip
+        ca, sa = math.cos(a), math.sin(a)
+        hx, hy = ca * tx - sa * ty + ax, sa * tx + ca * ty + ay  # the hook's centre, world
+        fx, fy = body.position
+        b = body.angle
+        cb, sb = math.cos(b), math.sin(b)
+        lx, ly = cb * (hx - fx) + sb * (hy - fy), -sb * (hx - fx) + cb * (hy - fy)  # ... in the frame
+        prev, self.prev = self.prev, (lx, ly)
+        if prev is None:
+            return None
+        px, py = prev
+        for x0, y0, ux, uy, length in self.faces:
+            d0 = (px - x0) * uy - (py - y0) * ux  # signed distance from the card's middle line
+            d1 = (lx - x0) * uy - (ly - y0) * ux
+            if d0 * d1 < 0.0:
+                f = d0 / (d0 - d1)
+                along = (px + f * (lx - px) - x0) * ux + (py + f * (ly - py) - y0) * uy
+                if 0.0 <= along <= length:
+                    self.crossed = True
+                    moved = math.hypot(lx - px, ly - py)
+                    return (f"the hook's centre went through frame {self.frame.index}'s handrail card between two "
+                            f"steps: it moved {units.length_to_si(moved) * 1e3:.2f} mm in one step and crossed the "
+                            f"card's middle line, from which the contact keeps it hook_radius + half the card = "
+                            f"{units.length_to_si(self.clearance) * 1e3:.2f} mm away; the contact never saw it "
+                            f"(the step is too large: try a smaller sim.dt)")
+        return None
+
+    def depth(self) -> float:
+        """How deep (m) a hook whose centre reached the card's middle line sank into the card: its penetration."""
+        return units.length_to_si(self.clearance)
 
 
 class Recorder:

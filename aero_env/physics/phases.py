@@ -30,6 +30,7 @@ from .. import results as say
 from .. import units
 from ..results import CARRIED_THETA1_DEG, REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, Swing
 from .miss import FlightRecord, classify_miss
+from .monitors import TunnelWatch
 
 
 class Run:
@@ -49,6 +50,7 @@ class Run:
         self.turn_back = math.radians(TURN_BACK_DEG)
         self.carried_angle = math.radians(CARRIED_THETA1_DEG)
         self.swings: list[Swing] = []
+        self.tunnel: TunnelWatch | None = None  # the flight's watch on the next frame's card (monitors.TunnelWatch)
         self.traversals = 0  # catches that carried the robot: frames 1..traversals
         # engine units: the hook's closest approach to the seat of frame traversals + 1 since the last traversal
         # (the runner samples it on the check cadence; a catch adds its touch's every step)
@@ -183,9 +185,15 @@ class Flight:
     def __init__(self, run: Run, record: FlightRecord):
         self.run, self.record = run, record
         self.next = run.frames[record.origin + 1]
+        run.tunnel = self.tunnel = TunnelWatch(run.world, self.next)
+        self.tunnel.step()
 
     def step(self, t: float):
         run = self.run
+        through = self.tunnel.step()
+        if through:
+            run.ending = ("unstable", through)
+            return self
         if run.touches(self.next.index):
             return Catching(self, t).step(t)
         self.record.observe(t, run.robot)
@@ -220,6 +228,10 @@ class Catching:
     def step(self, t: float):
         fl = self.flight
         run, frame = fl.run, fl.next
+        through = fl.tunnel.step()
+        if through:
+            run.ending = ("unstable", through)
+            return self
         if not run.touches(frame.index):
             fl.record.note_graze(self.closest)  # the touch ended without a catch: a graze, unless a later one seats
             return fl

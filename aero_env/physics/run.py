@@ -106,6 +106,8 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None,
         if recording:
             recorder.after_step(n, t, sample)
 
+    if run.tunnel is not None and run.tunnel.crossed:
+        monitors.went_through(run.tunnel.depth())  # the health record says how deep it went
     recorder.finish()
     return _result(cfg, world, run, monitors, recorder, ending, run.closest, wall0, bool(poses_every))
 
