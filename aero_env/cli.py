@@ -101,11 +101,11 @@ def _fmt(v, spec):
 
 
 def _table(r) -> str:
-    lines = [f"{'frame':>5} {'t_catch':>8} {'t_detach':>8} {'swing s':>8} {'th1 catch':>9} {'th1 detach':>10} "
-             f"{'th2 catch':>9} {'th2 range':>11}"]
+    lines = [f"{'frame':>5} {'t_catch':>8} {'t_carried':>9} {'t_detach':>8} {'swing s':>8} {'th1 catch':>9} "
+             f"{'th1 detach':>10} {'th2 catch':>9} {'th2 range':>11}"]
     for s in r.swings:
         rng = f"{s.theta2_min_deg:.0f}..{s.theta2_max_deg:.0f}" if s.theta2_min_deg is not None else "-"
-        lines.append(f"{s.frame:>5} {_fmt(s.t_catch, '8.3f')} {_fmt(s.t_detach, '8.3f')} "
+        lines.append(f"{s.frame:>5} {_fmt(s.t_catch, '8.3f')} {_fmt(s.t_carried, '9.3f')} {_fmt(s.t_detach, '8.3f')} "
                      f"{_fmt(s.swing_duration, '8.3f')} {_fmt(s.theta1_catch_deg, '9.1f')} "
                      f"{_fmt(s.theta1_detach_deg, '10.1f')} {_fmt(s.theta2_catch_deg, '9.1f')} {rng:>11}")
     e = r.energy

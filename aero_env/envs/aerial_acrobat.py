@@ -111,8 +111,8 @@ class AerialAcrobatEnv(gym.Env):
 
     | Outcome                                   | Reward                                                   |
     |-------------------------------------------|----------------------------------------------------------|
-    | each consecutive traversal (seated catch) | +1 (the full row of ``n`` frames gives ``n - 1``)        |
-    | a failed transfer that flew (shaping on): ``fell_short``, ``missed_catch`` | ``+ env.reward_shaping · max(0, 1 - miss_distance / pitch)`` |
+    | each consecutive traversal (seated catch, then carried through the robot's lowest point) | +1 (the full row of ``n`` frames gives ``n - 1``) |
+    | a failed transfer that flew (shaping on): ``fell_short``, ``missed_catch`` (a catch that did not hold included: its miss is its distance to that seat) | ``+ env.reward_shaping · max(0, 1 - miss_distance / pitch)`` |
     | a hook that never let go: ``stalled``, ``no_detach`` | +0, however near the next seat it hung       |
     | ``unstable`` (the engine lost the state)  | 0 in all: its numbers are not physics                    |
 
@@ -132,7 +132,8 @@ class AerialAcrobatEnv(gym.Env):
     ## Episode End
 
     Every step terminates the episode (``terminated=True``, never truncated): the run ends at
-    the first failed transfer or at the catch by the last frame, and always within
+    the first failed transfer or once the last frame has caught the robot and carried it through its
+    lowest point, and always within
     ``sim.t_max``. ``info`` holds the run as ``aero-env simulate --json`` prints it (``outcome``,
     ``reason``, ``traversals``, ``frames``, ``swings``, ``energy``, ``sim_time``,
     ``miss_distance``, ``health``) except ``wall_time``, which would break determinism, plus ``design``
