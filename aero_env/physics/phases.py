@@ -14,7 +14,8 @@
                 touch that never seats is a graze, and the flight goes on
 ==============  ==========================================================================
 
-"Carried" is read on the check cadence while hanging, and at the detach from the state at the first
+"Carried" is an event, step-exact like the catch and the detach: read every runner step while the hook
+touches the frame and the frame has not yet carried it, and at the detach from the state at the first
 step without contact (a frame at ``CARRIED_THETA1_DEG`` or past it there carried the robot).
 
 Each phase's :meth:`step` runs every runner step (contact bookkeeping, so catch and detach times
@@ -83,6 +84,7 @@ class Hanging:
     def __init__(self, run: Run, frame, t: float):
         self.run, self.frame = run, frame
         self.index, self.touching = frame.index, run.touching
+        self.body = frame.body
         self.t_touch = t  # the last runner step at which the hook touched the frame
         self.peak = frame.theta
         self.t_stop: float | None = None
@@ -91,6 +93,8 @@ class Hanging:
     def step(self, t: float):
         if self.index in self.touching:
             self.t_touch = t
+            if self.swing.t_carried is None and self.body.angle >= self.run.carried_angle:
+                self.run.ending = self.run.carried(self.swing, t)
             return self
         return LettingGo(self).step(t)
 
@@ -98,10 +102,6 @@ class Hanging:
         run, frame, sim, p = self.run, self.frame, self.run.sim, self.run.p
         theta1 = frame.theta
         self.peak = max(self.peak, theta1)
-        if self.swing.t_carried is None and theta1 >= run.carried_angle:
-            done = run.carried(self.swing, t)
-            if done:
-                return done
         if theta1 >= run.near_stop:
             self.t_stop = t if self.t_stop is None else self.t_stop
             if t - self.t_stop >= sim.stop_hold:
