@@ -159,7 +159,7 @@ class LettingGo:
             sw.t_detach, sw.theta1_detach_deg = h.t_touch, math.degrees(rec.theta1_detach)
             sw.swing_duration = h.t_touch - sw.t_catch
             sw.alpha_detach_deg = math.degrees(rec.alpha_detach)
-            if sw.t_carried is None and rec.theta1_detach >= run.carried_angle:  # carried since the last check
+            if sw.t_carried is None and rec.theta1_detach >= run.carried_angle:  # it got there as the contact was lost
                 run.ending = run.carried(sw, h.t_touch)
             if sw.t_carried is None and sw.frame > 0:  # caught, let go before it was carried: no traversal
                 run.ending = ("missed_catch", say.catch_did_not_hold(

@@ -26,7 +26,9 @@ its outcome:
 ``missed_catch`` the arm did not swing forward in time (spring too weak or too stiff), the hook
                 passed ahead of the next handrail, touched it without seating (a graze), or was
                 caught and let go before the frame carried it (a catch that did not hold)
-``unstable``    a non-finite or exploding state, or mechanical energy rose above tolerance
+``unstable``    a non-finite or exploding state, mechanical energy rose above tolerance, a constraint
+                gave past its limit, or the hook went through a handrail card between two steps
+                (:class:`~.monitors.TunnelWatch`: the step is too large for the contact)
 ``timeout``     the run reached ``sim.t_max`` (should not happen: every phase has a limit)
 ==============  =====================================================================
 
