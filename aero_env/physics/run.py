@@ -80,7 +80,8 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None,
                             catch_seat_mm=run.seat_distance(frames[0])))
     phase = Hanging(run, frames[0], 0.0)
     ending: tuple[str, str] = ("timeout", say.reached_t_max(sim.t_max))
-    origin, seat = 0, run.next_seat(0)
+    # the frame the transfer aims at: its seat is read where it is at each check (a touch moves the frame)
+    origin, target = 0, frames[1]
 
     world_step, recording = world.step, recorder.recording
     for n in range(1, int(math.ceil(sim.t_max / step_s)) + 1):
@@ -91,7 +92,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None,
             ending = run.ending
             break
         if run.traversals != origin:  # a catch that carried the robot moved it on: the miss distance starts again
-            origin, seat, run.closest = run.traversals, run.next_seat(run.traversals), math.inf
+            origin, target, run.closest = run.traversals, frames[min(run.traversals + 1, len(frames) - 1)], math.inf
         sample = None
         if phase.every_step or n % check_every == 0:
             stop = phase.check(t)
@@ -103,6 +104,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None,
             if bad:
                 ending = ("unstable", bad)
                 break
+            seat = target.hook_seat_world()
             run.closest = min(run.closest, math.hypot(sample.hook[0] - seat.x, sample.hook[1] - seat.y))
             phase.observe(sample)
         if recording:
