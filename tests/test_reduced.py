@@ -68,7 +68,7 @@ def test_the_prototype_completes_the_row_with_flight_entered_swings_as_the_pymun
         assert 0.48 < s.swing_duration < 0.62
         assert 155.0 < s.theta1_detach_deg <= 181.0
     assert proto.miss_distance is None and proto.reason == "caught by the last frame (7)"
-    assert 4.3 < proto.sim_time < 5.2  # pymunk: 4.850 s (the last frame has carried the robot through 90 deg)
+    assert 4.0 < proto.sim_time < 4.8  # pymunk: 4.379 s (the last frame has carried the robot through 90 deg)
 
 
 def test_a_catch_is_a_traversal_once_its_frame_carried_the_robot_as_in_the_pymunk_world(proto, paper_run):
@@ -82,13 +82,12 @@ def test_a_catch_is_a_traversal_once_its_frame_carried_the_robot_as_in_the_pymun
     assert proto.sim_time == last.t_carried and last.t_carried - last.t_catch > 0.1
 
 
-# Found among 40,000 reduced runs over a box wider than the env's action space (seed 0): frame 1 catches the
-# hook 1.1 mm from its seat, and it lets go 0.07 s later at 60 deg (the reduced model's catches almost always
-# hold: none of 10,000 draws over the action box let go)
-REDUCED_LET_GO = {"design.mu_s": 0.5496484554290656, "design.mu_k": 0.510626541936958,
-                  "design.spring_k": 0.0032861150063736933, "design.m3": 0.01241710134142049,
-                  "design.h": 0.014632677163642678, "design.La": 0.05990335215095903,
-                  "scene.pitch": 0.08341214796412616, "scene.rise": -0.0016947541843554334}
+# Draw 849 of 40,000 uniform draws (seed 0) over configs/paper.yaml's action box on a 3-frame row: frame 1
+# catches the hook and it lets go 0.08 s later at 61 deg, in this model and in the pymunk world alike (105 of
+# the 40,000 let go in this model)
+REDUCED_LET_GO = {"design.m3": 0.01014060529419411, "design.h": 0.0181530110596604,
+                  "design.La": 0.04285583393758548, "design.spring_k": 0.0012389565000329838,
+                  "design.mu_s": 0.25998308636374823, "design.mu_k": 0.1961864987505037}
 
 
 def test_a_catch_that_lets_go_before_its_frame_carried_the_robot_ends_the_run():
@@ -100,7 +99,8 @@ def test_a_catch_that_lets_go_before_its_frame_carried_the_robot_ends_the_run():
     assert r.reason == say.catch_did_not_hold(0, caught.catch_seat_mm * 1e-3, caught.t_detach - caught.t_catch,
                                               caught.theta1_detach_deg)
     assert r.sim_time == pytest.approx(caught.t_detach + cfg.sim.contact_hold)
-    assert r.flew and r.miss_distance == pytest.approx(caught.catch_seat_mm * 1e-3)
+    # the transfer's closest approach to the caught seat: no farther than where the hook was caught
+    assert r.flew and 0.0 < r.miss_distance <= caught.catch_seat_mm * 1e-3 + 1e-12
     batch = simulate_batch([cfg, load_config(PAPER, {"scene.frames": 3})])
     assert batch.traversals.tolist() == [0, 2] and batch.reason(0) == r.reason and batch.flew.tolist() == [True, False]
 
