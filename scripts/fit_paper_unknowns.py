@@ -118,14 +118,17 @@ def failed_build_share(cfg) -> float:
     return failed / FIT_BUILDS
 
 
-def fit(base, seed: int, trials: int) -> dict:
+def fit(base, seed: int, trials: int, fixed: dict | None = None) -> dict:
+    """CMA-ES over :data:`SEARCH` less the unknowns ``fixed`` holds at a value (a trade-off's simpler side)."""
     import optuna
 
+    fixed = fixed or {}
+    free = {k: b for k, b in SEARCH.items() if k not in fixed}
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     study = optuna.create_study(sampler=optuna.samplers.CmaEsSampler(seed=seed))
-    study.optimize(lambda t: evaluate(base, {k: t.suggest_float(k, *b) for k, b in SEARCH.items()})[0],
+    study.optimize(lambda t: evaluate(base, {**fixed, **{k: t.suggest_float(k, *b) for k, b in free.items()}})[0],
                    n_trials=trials)
-    best = dict(study.best_trial.params)
+    best = {**fixed, **study.best_trial.params}
     s, z, fig, r = evaluate(base, best)
     return dict(score=s, fitted=best, traversals=r.traversals, figures=fig,
                 z=dict(zip(TARGETS, map(float, z))),
@@ -144,8 +147,8 @@ def profile(base, points: int) -> str:
              f"{'within +0.25 of the best':>25}  pinned"]
     effects = {}
     for k, (lo, hi) in SEARCH.items():
-        xs = np.linspace(lo, hi, points)
-        scores = np.array([evaluate(base, {**at, k: float(x)})[0] for x in xs])
+        xs = np.union1d(np.linspace(lo, hi, points), [at[k]])  # the config's own value is a point of the profile
+        scores = np.array([s0 if x == at[k] else evaluate(base, {**at, k: float(x)})[0] for x in xs])
         ok = xs[scores <= scores.min() + 0.25]
         share = (ok.max() - ok.min()) / (hi - lo)
         lines.append(f"{k:<24} {at[k]:>10.4g} {lo:>10.3g}..{hi:<10.3g} {scores.min():>6.2f}..{scores.max():<6.2f}  "
@@ -208,6 +211,8 @@ def main() -> None:
     ap.add_argument("--profile", action="store_true", help="print the identifiability report instead of fitting")
     ap.add_argument("--points", type=int, default=13, help="--profile: points along each unknown's range")
     ap.add_argument("--pitch-window", action="store_true", help="print the pitches at which the row completes")
+    ap.add_argument("--fix", action="append", default=[], metavar="KEY=VALUE",
+                    help="hold an unknown at a value instead of fitting it (e.g. design.axle_friction=0)")
     args = ap.parse_args()
     base = load_config(args.config)
     if args.pitch_window:
@@ -216,7 +221,13 @@ def main() -> None:
     if args.profile:
         print(profile(base, args.points))
         return
-    print(json.dumps(fit(base, args.seed, args.trials), indent=1))
+    fixed = {}
+    for text in args.fix:
+        key, _, value = text.partition("=")
+        if key not in SEARCH or not value:
+            raise SystemExit(f"error: --fix {text!r}: must be KEY=VALUE with KEY one of {', '.join(SEARCH)}")
+        fixed[key] = float(value)
+    print(json.dumps(fit(base, args.seed, args.trials, fixed), indent=1))
 
 
 if __name__ == "__main__":
