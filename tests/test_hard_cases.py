@@ -5,6 +5,7 @@ the golden record of the prototype's run."""
 import itertools
 import json
 import math
+from unittest import mock
 
 import gymnasium as gym
 import numpy as np
@@ -13,7 +14,9 @@ import pytest
 import aero_env  # noqa: F401
 from aero_env.config import load_config
 from aero_env.physics import simulate
+from aero_env.physics import run as run_module
 from aero_env.physics import world as world_module
+from aero_env.physics.swing_frame import FLOOR
 
 from .conftest import PAPER
 from .golden import tolerances
@@ -193,3 +196,31 @@ def test_the_golden_tolerances_absorb_last_bit_changes_and_catch_physical_ones(g
     # a physical change: the counterbalance 1 % heavier moves the detaches (measured 7.5 ms, 1.0 deg)
     heavier = tolerances.departures(record({"design.m3": d.m3 * 1.01}), expected, _seconds_per_row())
     assert any(".t_detach" in line for line in heavier), heavier
+
+
+def test_a_fall_ends_when_the_hook_reaches_the_floor_before_the_floors_impact(paper_cfg):
+    """Found by the property test (tests/test_properties.py): a stiff spring misses frame 1 and the robot falls
+    until its hook strikes the floor; the solver answers that impact by giving 0.34 mJ back within two steps,
+    above sim.energy_tolerance, between two of the runner's 5 ms checks. A fall is over when the hook touches
+    the floor, so the run ends there, at the first step pymunk reports the hook on the floor segment, and every
+    step it ran stays within every limit (the observer reads each one)."""
+    cfg = paper_cfg.replace({"scene.frames": 2, "design.m3": 0.0107458125, "design.h": 0.012980625,
+                             "design.La": 0.050715, "design.spring_k": 0.002706221736673107,
+                             "design.mu_s": 0.5477225575051662, "design.mu_k": 0.4133183136893228})
+    on_floor = []
+
+    class Watched(world_module.World):
+        def step(self):
+            super().step()
+            hits = []
+            self.robot.arm.each_arbiter(lambda arb: hits.append(arb.shapes[1].collision_type == FLOOR))
+            if any(hits) and not on_floor:
+                on_floor.append(self.t)
+
+    result, observer = observed_run(cfg, keep_rows=False)
+    check_run(result, observer, cfg)
+    with mock.patch.object(run_module, "World", Watched):
+        watched = run_module.simulate(cfg)
+    assert (watched.outcome, watched.sim_time) == (result.outcome, result.sim_time)  # the same run, watched
+    assert result.outcome == "missed_catch" and on_floor, result.reason
+    assert result.sim_time == pytest.approx(on_floor[0], abs=cfg.sim.dt)

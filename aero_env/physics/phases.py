@@ -197,11 +197,16 @@ class Flight:
         if run.touches(self.next.index):
             return Catching(self, t).step(t)
         self.record.observe(t, run.robot)
+        # The hook (the robot's one collision shape) reaching the floor is the fall's end: read every step, so
+        # the run ends at the touch, before the floor's impact, which the solver answers by giving energy back
+        if run.world.on_floor(run.robot.hook_world(), run.p.hook_radius):
+            run.ending = classify_miss(self.record, run.p)
         return self
 
     def check(self, t: float, touching_gap: float | None = None):
-        """The floor or the flight timeout ends the run as a named miss; ``touching_gap``: the hook
-        still touches the next handrail, this far from its seat at best (a graze)."""
+        """The floor (the robot's centre below it; the hook on it ends the run in :meth:`step`) or the flight
+        timeout ends the run as a named miss; ``touching_gap``: the hook still touches the next handrail, this
+        far from its seat at best (a graze)."""
         run = self.run
         com = run.robot.com_world()
         if com.y < run.world.floor_y(com.x) or t - self.record.t_detach > run.sim.flight_timeout:

@@ -31,6 +31,9 @@ from .robot import RigidRobot, Robot
 from .swing_frame import FLOOR, SwingFrame
 
 
+FLOOR_RADIUS = 1.0  # engine units (mm): the floor segment's half thickness
+
+
 def read_state(b: pymunk.Body) -> tuple[float, float, float, float, float, float]:
     """(x, y, angle, vx, vy, omega): the body's origin, its angle, its centre of gravity's velocity
     and its angular velocity, each read from pymunk once."""
@@ -87,7 +90,7 @@ class World:
         x0, x1 = -2.0 * p.pitch, (p.frames + 1) * p.pitch
         self.floor_a = pymunk.Vec2d(x0, x0 / p.pitch * p.rise - p.floor_drop)
         self.floor_b = pymunk.Vec2d(x1, x1 / p.pitch * p.rise - p.floor_drop)
-        floor = pymunk.Segment(space.static_body, self.floor_a, self.floor_b, 1.0)
+        floor = pymunk.Segment(space.static_body, self.floor_a, self.floor_b, FLOOR_RADIUS)
         floor.collision_type = FLOOR
         space.add(floor)
 
@@ -155,6 +158,10 @@ class World:
     def floor_y(self, x: float) -> float:
         a, b = self.floor_a, self.floor_b
         return a.y + (x - a.x) * (b.y - a.y) / (b.x - a.x)
+
+    def on_floor(self, point, radius: float) -> bool:
+        """Whether a disc of ``radius`` at ``point`` (engine units) touches the floor segment."""
+        return point.y - radius <= self.floor_y(point.x) + FLOOR_RADIUS
 
     def sample(self) -> "Sample":
         """Read every live body once (position, angle, velocities) and derive what the runner checks:
