@@ -92,7 +92,8 @@ def part_layout(arm_length, torso_com, m_arm, m_torso, alpha):
 
 class RobotParts:
     """The robot as a hand-made toy is built, in SI: a card torso strip hanging from the axle, its
-    bottom Table 1's Ld from the hook with the arm fully bent, with the coins on it (:func:`torso_build`), and the arm, a uniform rod from the axle to the hook. The handrail's card,
+    bottom Table 1's Ld from the hook with the arm fully bent, with the coins on it
+    (:func:`torso_build`), and the arm, a uniform rod from the axle to the hook. The handrail's card,
     which Table 1 counts in m2, belongs to the frame and is not part of the robot.
 
     Every attribute is a plain float (or a numpy array when the design's fields are arrays, so the

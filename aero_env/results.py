@@ -20,8 +20,8 @@ REST_MOVE = math.radians(0.5)  # a frame that never turned this far from its res
 
 # ---- when a catch is a traversal ----
 # A catch counts as a traversal only once the caught frame has *carried* the robot: turned it, hook still on,
-# through its lowest point, theta1 >= CARRIED_THETA1_DEG (the handrail straight below the axis; the angle
-# aero_env.calibration.swing_metrics.LOWEST_THETA1_DEG names). A touch held sim.contact_hold with the hook
+# through its lowest point, theta1 >= CARRIED_THETA1_DEG (the handrail straight below the axis; the
+# calibration's LOWEST_THETA1_DEG is this constant). A touch held sim.contact_hold with the hook
 # within sim.catch_seat of the seat is a catch, but a hook can be caught 2.95 mm off its seat and fall out
 # 0.08 s later: that catch did not hold, and the run ends there (missed_catch: catch_did_not_hold). The last
 # frame's catch completes the row by the same rule, not by "the frame reached its stop": on every frame the

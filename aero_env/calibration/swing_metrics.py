@@ -27,9 +27,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..results import SimResult, Swing
+from ..results import CARRIED_THETA1_DEG, SimResult, Swing
 
-LOWEST_THETA1_DEG = 90.0  # the handrail is straight below the axis here: the robot is at its lowest
+# the handrail is straight below the axis here: the robot is at its lowest (the angle through which a frame
+# must carry the robot for its catch to count, one definition for both)
+LOWEST_THETA1_DEG = CARRIED_THETA1_DEG
 OMEGA1_PROBE_DEG = 80.0  # the paper's MBD quotes theta1' (~1.1 rad/s) near theta1 = 80 deg (Sec. 7.3)
 # Where theta1's dip is looked for: past the catch's first 10 deg (the catch's own transient) and up to
 # Eq. (1)'s balance near 125 deg, past which every swing slows as the moment turns against it; the paper's

@@ -104,7 +104,7 @@ def to_engine(cfg: Config) -> EngineParams:
         rail_radius=d.handrail_thickness * L / 2.0, hook_radius=d.hook_radius * L,
         m_robot=parts.mass * M, m_arm=parts.m_arm * M, m_torso=parts.m_torso * M,
         arm_length=d.arm_length * L, torso_com=parts.torso_com * L,
-        torso_length=d.torso_length * L, coin_offset=d.coin_offset * L,
+        torso_length=float(parts.torso_length) * L, coin_offset=float(parts.coin_offset) * L,
         I_arm=parts.I_arm * I, I_torso=parts.I_torso * I, axle_friction=d.axle_friction * units.TORQUE,
         Lc=rigid_Lc * L, I2=rigid_I * I,
         alpha_min=rad(d.alpha_min_deg), alpha_max=rad(d.alpha_max_deg),

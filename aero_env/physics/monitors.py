@@ -94,6 +94,7 @@ class TunnelWatch:
         self.faces = frame.faces  # (start x, y, unit direction x, y, length), the card's middle line, frame-local
         self.clearance = world.p.hook_radius + frame.rail_radius
         self.prev: tuple[float, float] | None = None
+        self.hook = (math.nan, math.nan)  # the hook's centre (world, engine units) at the last step
         self.crossed = False
 
     def step(self) -> str | None:
@@ -103,7 +104,7 @@ class TunnelWatch:
         a = arm.angle
         tx, ty = self.tip
         ca, sa = math.cos(a), math.sin(a)
-        hx, hy = ca * tx - sa * ty + ax, sa * tx + ca * ty + ay  # the hook's centre, world
+        hx, hy = self.hook = ca * tx - sa * ty + ax, sa * tx + ca * ty + ay  # the hook's centre, world
         fx, fy = body.position
         b = body.angle
         cb, sb = math.cos(b), math.sin(b)

@@ -199,7 +199,7 @@ class Flight:
         self.record.observe(t, run.robot)
         # The hook (the robot's one collision shape) reaching the floor is the fall's end: read every step, so
         # the run ends at the touch, before the floor's impact, which the solver answers by giving energy back
-        if run.world.on_floor(run.robot.hook_world(), run.p.hook_radius):
+        if run.world.on_floor(*self.tunnel.hook, run.p.hook_radius):  # the hook as the watch read it this step
             run.ending = classify_miss(self.record, run.p)
         return self
 

@@ -159,9 +159,9 @@ class World:
         a, b = self.floor_a, self.floor_b
         return a.y + (x - a.x) * (b.y - a.y) / (b.x - a.x)
 
-    def on_floor(self, point, radius: float) -> bool:
-        """Whether a disc of ``radius`` at ``point`` (engine units) touches the floor segment."""
-        return point.y - radius <= self.floor_y(point.x) + FLOOR_RADIUS
+    def on_floor(self, x: float, y: float, radius: float) -> bool:
+        """Whether a disc of ``radius`` centred at (``x``, ``y``) (engine units) touches the floor segment."""
+        return y - radius <= self.floor_y(x) + FLOOR_RADIUS
 
     def sample(self) -> "Sample":
         """Read every live body once (position, angle, velocities) and derive what the runner checks:
