@@ -30,6 +30,7 @@ def test_the_md_sheet_gives_the_configs_parts_in_mm_and_g(tmp_path, capsys):
     assert _row(sheet, "torso strip below the axle / its card (m2 less the parts listed here)") == \
         "39.1 mm / 2.00 g (2.0 one-yen coins)"
     assert "0.877 N·mm/rad (linear)" in sheet and "0.92 N·mm" in sheet  # k·60 deg, the paper's sanity check
+    assert "5.0 mm wide, 20.0 mm free between two 5 mm glue tabs" in sheet  # the prototype's strip
     assert "In the simulated world this design" in sheet and "Robustness: not assessed" in sheet
 
 
@@ -51,19 +52,121 @@ def test_the_sheet_reports_the_designs_robustness(tmp_path):
     assert "does not complete" in text and "**0 of 4**" in text
 
 
+def _part(doc, name):
+    return next(g for g in doc.getElementsByTagName("g") if g.getAttribute("id") == name)
+
+
+def _f(el, attr):
+    return float(el.getAttribute(attr))
+
+
 def test_the_svg_template_is_one_to_one(tmp_path, paper_cfg):
     out = tmp_path / "t.svg"
     assert main(["sheet", str(PAPER), "--out", str(out)]) == 0
     doc = xml.dom.minidom.parse(str(out)).documentElement
     width = float(doc.getAttribute("width").removesuffix("mm"))
     assert doc.getAttribute("viewBox").split()[2] == f"{width:.1f}"  # one user unit is one millimetre
-    rects = [float(r.getAttribute("width")) for r in doc.getElementsByTagName("rect")]
     d = paper_cfg.design
-    for length in (d.La + d.Lb, d.arm_length, d.torso_length, d.notch_back_face + d.notch_front_face):
-        assert any(r == pytest.approx(length * 1e3, abs=0.01) for r in rects), length
-    assert 50.0 in rects  # the scale bar
-    coins = [c for c in doc.getElementsByTagName("circle") if c.getAttribute("stroke") == "gray"]
-    assert float(coins[0].getAttribute("r")) == pytest.approx(d.coin_radius * 1e3)
+    frame = _part(doc, "swing-frame")
+    hole = frame.getElementsByTagName("circle")[0]
+    seat = frame.getElementsByTagName("line")[0]
+    assert _f(hole, "cx") - _f(seat, "x1") == pytest.approx(d.Lb * 1e3, abs=0.01)
+    arm = _part(doc, "arm")
+    fold = arm.getElementsByTagName("line")[0]
+    assert _f(fold, "x1") - _f(arm.getElementsByTagName("circle")[0], "cx") == pytest.approx(d.arm_length * 1e3, abs=0.01)
+    torso = _part(doc, "torso")
+    card, axle, coins = torso.getElementsByTagName("rect")[0], *torso.getElementsByTagName("circle")
+    assert _f(card, "width") - _f(axle, "cx") == pytest.approx(d.torso_length * 1e3, abs=0.01)
+    assert _f(coins, "r") == pytest.approx(d.coin_radius * 1e3)
+    assert _f(coins, "cx") + _f(coins, "r") == pytest.approx(_f(card, "width"), abs=0.01)  # flush with the bottom
+    rail = _part(doc, "handrail").getElementsByTagName("rect")[0]
+    assert _f(rail, "height") == pytest.approx((d.notch_back_face + d.notch_front_face) * 1e3, abs=0.01)
+    assert any(r.getAttribute("class") == "scale-bar" and _f(r, "width") == 50.0 for r in doc.getElementsByTagName("rect"))
+
+
+def _spring_strips(svg_path):
+    """(cut length, width) in mm of each leaf-spring strip drawn in the template."""
+    doc = xml.dom.minidom.parse(str(svg_path)).documentElement
+    return [(_f(r, "width"), _f(r, "height")) for r in _part(doc, "leaf-spring").getElementsByTagName("rect")]
+
+
+def _bending_k(strips, tab_mm=5.0):
+    """The strips' torque per radian by the pure-bending law written out here: n·D·w/L, L the free length."""
+    from aero_env.sheet.card import PAPER_CARD
+
+    D = PAPER_CARD.bending_stiffness
+    return sum(D * (w * 1e-3) / ((cut - 2 * tab_mm) * 1e-3) for cut, w in strips)
+
+
+def test_the_cards_bending_stiffness_is_the_fit_on_the_papers_spring():
+    from aero_env.sheet.card import PAPER_CARD, PAPER_SPRING_K, PROTOTYPE_STRIP, fit_bending_stiffness
+
+    # the stored value is the fit's (scripts/fit_card_bending.py), rounded: it cannot go stale
+    assert PAPER_CARD.bending_stiffness == pytest.approx(fit_bending_stiffness(PAPER_SPRING_K, PROTOTYPE_STRIP),
+                                                         rel=1e-3)
+
+
+@pytest.mark.parametrize("k", [8.77e-4, 4e-4, 1.5e-3, 3.5e-3])
+def test_the_spring_strip_on_the_template_gives_the_designs_stiffness(tmp_path, k):
+    out = tmp_path / "t.svg"
+    assert main(["sheet", str(PAPER), "--out", str(out), "--set", f"design.spring_k={k}"]) == 0
+    strips = _spring_strips(out)
+    assert _bending_k(strips) == pytest.approx(k, rel=0.01)
+    for cut, w in strips:
+        assert 2.0 - 1e-9 <= w <= 8.0 + 1e-9  # cuttable, and no wider than the arm it is glued to
+        assert cut - 10.0 <= 25.0 + 1e-9  # ends a glue tab before the hook (30 mm arm)
+    if k == 8.77e-4:  # the paper's 0.877 N·mm/rad: the prototype's strip, one layer
+        assert strips == [(30.0, 5.0)]
+
+
+@pytest.mark.parametrize("k, why", [(6e-3, "use a thicker card"), (1.5e-4, "use a thinner card")])
+def test_a_spring_no_strip_can_make_is_said_so(tmp_path, k, why):
+    assert main(["sheet", str(PAPER), "--out", str(tmp_path / "kit"), "--draws", "0", *SHORT_ROW,
+                 "--set", f"design.spring_k={k}"]) == 0
+    sheet = (tmp_path / "kit" / "sheet.md").read_text()
+    assert "**none fits**" in sheet and why in sheet
+    assert _spring_strips_or_none(tmp_path / "kit" / "template.svg") is None
+    assert "LEAF SPRING: no strip of this card fits" in (tmp_path / "kit" / "template.svg").read_text()
+
+
+def _spring_strips_or_none(svg_path):
+    doc = xml.dom.minidom.parse(str(svg_path)).documentElement
+    return next((g for g in doc.getElementsByTagName("g") if g.getAttribute("id") == "leaf-spring"), None)
+
+
+def test_the_bench_check_is_the_arms_turn_under_the_papers_loads(paper_cfg):
+    rows = {ln.what.split(" (")[0]: ln.value for ln in lines(paper_cfg)}
+    bench = rows["bench check"]
+    # the bag alone (0.3 g) at the hook tip of a 30 mm arm on 0.877 N·mm/rad: 0.3e-3·9.81·0.03/8.77e-4 rad
+    assert bench.startswith("0.30 g: 6 deg, 0.80 g: 15 deg")  # 5.77 and 15.4 deg
+    assert bench.endswith("3.30 g: 63 deg")  # the first load past the full bend of 60 deg
+
+
+def test_one_command_writes_the_sheet_and_its_template(tmp_path, capsys):
+    kit = tmp_path / "kit"
+    assert main(["sheet", str(PAPER), "--out", str(kit), "--draws", "0", *SHORT_ROW]) == 0
+    assert sorted(p.name for p in kit.iterdir()) == ["sheet.md", "template.svg"]
+    assert "[template.svg](template.svg)" in (kit / "sheet.md").read_text()
+    assert main(["sheet", str(PAPER), "--out", str(kit), "--draws", "0", *SHORT_ROW]) == 2  # no silent overwrite
+    assert "already holds sheet.md" in capsys.readouterr().err
+
+
+def test_the_sheets_builds_show_progress_on_a_terminal():
+    import io
+
+    from aero_env.sheet.command import _Progress
+
+    class Tty(io.StringIO):
+        def isatty(self):
+            return True
+
+    tty, pipe = Tty(), io.StringIO()
+    for stream in (tty, pipe):
+        bar = _Progress(stream)
+        for i in range(1, 4):
+            bar(i, 3)
+    assert tty.getvalue() == "\rsheet: 1/3 builds\rsheet: 2/3 builds\rsheet: 3/3 builds\n"
+    assert pipe.getvalue() == ""  # a pipe or a file gets no progress
 
 
 @pytest.mark.parametrize("out, needle", [("nodir/sheet.md", "does not exist"), ("sheet.txt", "suffix '.txt'")])

@@ -1,16 +1,19 @@
 """``aero-env sheet``: from a config to what to cut.
 
-    aero-env sheet CONFIG --out FILE.md|FILE.svg [--draws N] [--seed S] [--set KEY=VALUE ...]
+    aero-env sheet CONFIG --out DIR|FILE.md|FILE.svg [--draws N] [--seed S] [--set KEY=VALUE ...]
 
-``.md``: every part in mm and g (and 1-yen coins), the card pair that gives the friction, where
+A folder: both, as ``DIR/sheet.md`` and ``DIR/template.svg`` (the folder is made if missing, and
+must not hold an earlier sheet). ``.md``: every part in mm and g (and 1-yen coins), the card pair that gives the friction, where
 the counterbalance goes, the spring as the paper measures it, whether the design completes its
 row, and its robustness: the share of hand-made builds (``aero-env robustness``'s tolerances)
-that still complete it. ``.svg``: a 1:1 template to print and cut. The output path is checked
-before anything is simulated.
+that still complete it. ``.svg``: the template to print and cut (``template.py``): every part at 1:1 and the stand to
+scale. The output path is checked before anything is simulated; the robustness builds show their
+progress on a terminal.
 """
 
 from __future__ import annotations
 
+import sys
 import time
 from pathlib import Path
 
@@ -22,8 +25,9 @@ FORMATS = (".md", ".svg")
 
 
 def register(sub, scene_command) -> None:
-    sp = scene_command(sub, "sheet", "a build sheet (.md) or a 1:1 cutting template (.svg) for a design")
-    sp.add_argument("--out", required=True, metavar="FILE.md|FILE.svg", help="where to write the sheet")
+    sp = scene_command(sub, "sheet", "a build sheet (.md) and a 1:1 cutting template (.svg) for a design")
+    sp.add_argument("--out", required=True, metavar="DIR|FILE.md|FILE.svg",
+                    help="a folder for both (sheet.md, template.svg), or one file")
     sp.add_argument("--draws", type=int, default=DEFAULT_DRAWS,
                     help=f"hand-made builds drawn for the robustness line of a .md sheet; 0 skips it "
                          f"(default {DEFAULT_DRAWS})")
@@ -31,7 +35,10 @@ def register(sub, scene_command) -> None:
     sp.set_defaults(func=cmd_sheet)
 
 
-def markdown(cfg: Config, config_name: str, draws: int, seed: int) -> str:
+SHEET_NAME, TEMPLATE_NAME = "sheet.md", "template.svg"
+
+
+def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str | None = None) -> str:
     from ..simulation import simulate
     from .parts import lines
 
@@ -43,9 +50,10 @@ def markdown(cfg: Config, config_name: str, draws: int, seed: int) -> str:
     return "\n".join([f"# Build sheet: {config_name}", "", verdict, "", robustness_line(cfg, config_name, draws, seed),
                       "",
                       *rows, "",
-                      "Lengths are measured along the card; the model is 2D and does not set widths. The "
-                      "friction pair is the paper's Table 3 (JIS K7125, 0.4 mm 310 g/m² card). Print the 1:1 "
-                      "template with `aero-env sheet CONFIG --out template.svg`.", ""])
+                      "Lengths are measured along the card; the model is 2D and sets no width but the spring "
+                      "strip's. The friction pair is the paper's Table 3 (JIS K7125, 0.4 mm 310 g/m² card). "
+                      + (f"The template to print at 100 % is [{template}]({template})." if template else
+                         "`aero-env sheet CONFIG --out DIR` writes this sheet with its template."), ""])
 
 
 def robustness_line(cfg: Config, config_name: str, draws: int, seed: int) -> str:
@@ -55,7 +63,7 @@ def robustness_line(cfg: Config, config_name: str, draws: int, seed: int) -> str
     from ..robustness.study import assess
     from ..robustness.tolerances import DEFAULT_TOLERANCES
 
-    study = assess(cfg, DEFAULT_TOLERANCES, draws, seed)
+    study = assess(cfg, DEFAULT_TOLERANCES, draws, seed, progress=_Progress())
     k = sum(r.traversals == study.full for r in study.runs)
     lo, hi = wilson(k, draws)
     return (f"Robustness: **{k} of {draws}** builds within a hand-made toy's tolerances complete the row "
@@ -63,20 +71,45 @@ def robustness_line(cfg: Config, config_name: str, draws: int, seed: int) -> str
             f"`aero-env robustness {config_name} --draws {draws} --seed {seed}` says which parts matter most).")
 
 
-def cmd_sheet(args) -> int:
-    from ..scene_args import check_output, load_scene
+class _Progress:
+    """'sheet: 12/55 builds' on stderr, rewritten in place; silent unless stderr is a terminal."""
 
-    check_output(args.out, "--out", FORMATS)
+    def __init__(self, stream=None):
+        self.stream = stream or sys.stderr
+        self.on = self.stream.isatty()
+
+    def __call__(self, done: int, total: int) -> None:
+        if self.on:
+            print(f"\rsheet: {done}/{total} builds", end="\n" if done == total else "", file=self.stream, flush=True)
+
+
+def cmd_sheet(args) -> int:
+    from ..scene_args import check_output, check_output_dir, load_scene
+    from .template import svg
+
     out = Path(args.out)
+    folder = out.suffix == "" or out.is_dir()
+    if folder:
+        for name in (SHEET_NAME, TEMPLATE_NAME):
+            if (out / name).exists():
+                raise ConfigError(f"--out {args.out!r}: already holds {name}; give a new folder or remove it")
+        check_output_dir(out, "--out", overwrite=True)
+    else:
+        check_output(args.out, "--out", FORMATS)
     if isinstance(args.draws, bool) or args.draws < 0:
         raise ConfigError(f"--draws {args.draws}: must be a whole number >= 0 (0 skips the robustness line)")
     cfg = load_scene(args)
     t0 = time.perf_counter()
-    if out.suffix == ".svg":
-        from .template import svg
-
+    if folder:
+        out.mkdir(parents=True, exist_ok=True)
+        (out / TEMPLATE_NAME).write_text(svg(cfg))
+        (out / SHEET_NAME).write_text(markdown(cfg, args.config, args.draws, args.seed, template=TEMPLATE_NAME))
+        written = f"{out / SHEET_NAME} and {out / TEMPLATE_NAME}"
+    elif out.suffix == ".svg":
         out.write_text(svg(cfg))
+        written = str(out)
     else:
         out.write_text(markdown(cfg, args.config, args.draws, args.seed))
-    print(f"wrote {out} in {time.perf_counter() - t0:.1f} s")
+        written = str(out)
+    print(f"wrote {written} in {time.perf_counter() - t0:.1f} s")
     return 0

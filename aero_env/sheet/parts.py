@@ -12,6 +12,8 @@ import math
 from dataclasses import dataclass
 
 from ..config import Config
+from .card import PAPER_CARD, Card
+from .spring_strip import GLUE_TAB, bench_loads, linear_equivalent, plan_strip
 
 YEN_COIN_G = 1.0  # a 1-yen coin weighs 1.00 g (aluminium, 20 mm across)
 
@@ -45,6 +47,28 @@ def card_pair(mu_s: float, mu_k: float) -> tuple[str, float]:
     """The Table 3 pair nearest the design's friction, and its relative distance in mu_s."""
     name, s, _k = min(CARD_PAIRS, key=lambda p: math.hypot(p[1] - mu_s, p[2] - mu_k))
     return name, abs(s - mu_s) / s
+
+
+def spring_lines(cfg: Config, card: Card = PAPER_CARD) -> list[Line]:
+    """The strip to cut for the design's spring (card.py's bending model), and the paper's bench test
+    that checks it: the arm's turn under a load at the hook tip."""
+    d = cfg.design
+    bend = math.radians(d.alpha_max_deg - d.alpha_min_deg)
+    k = linear_equivalent(d.spring_k, cfg.scene.effects.spring_law, bend)
+    plan = plan_strip(k, card, d.arm_length, bend)
+    if plan.strip is None:
+        return [Line("leaf spring", "strip to cut (0.4 mm card)", f"**none fits**: {plan.why_not}")]
+    st = plan.strip
+    layers = f"{st.layers} strips stacked loose, each " if st.layers > 1 else ""
+    checks = ", ".join(f"{g:.2f} g: {turn:.0f} deg" for g, turn in bench_loads(k, d.arm_length, bend)[::2])
+    return [
+        Line("leaf spring", "strip to cut (0.4 mm card; the bending model of aero_env/sheet/card.py)",
+             f"{layers}{st.width * 1e3:.1f} mm wide, {st.free_length * 1e3:.1f} mm free between two "
+             f"{GLUE_TAB * 1e3:.0f} mm glue tabs ({plan.cut_length * 1e3:.1f} mm cut)"),
+        Line("leaf spring", "bench check (the paper's Fig. 18): load at the hook tip, pulling at right angles to "
+                            "the arm, and the arm's turn; trim the width in proportion if yours turns more or less",
+             checks),
+    ]
 
 
 def lines(cfg: Config) -> list[Line]:
@@ -82,6 +106,7 @@ def lines(cfg: Config) -> list[Line]:
         Line("leaf spring", f"straight at alpha = {d.alpha_min_deg:.0f} deg; torque when fully bent "
                             f"({d.alpha_max_deg:.0f} deg)",
              f"{full_torque * 1e3:.2f} N·mm"),
+        *spring_lines(cfg),
         Line("row", "frames / skewer holes apart (pitch) / each higher than the last (rise)",
              f"{s.frames} / {mm(s.pitch)} / {mm(s.rise)}"),
     ]
