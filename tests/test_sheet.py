@@ -147,8 +147,12 @@ def test_one_command_writes_the_sheet_and_its_template(tmp_path, capsys):
     assert main(["sheet", str(PAPER), "--out", str(kit), "--draws", "0", *SHORT_ROW]) == 0
     assert sorted(p.name for p in kit.iterdir()) == ["sheet.md", "template.svg"]
     assert "[template.svg](template.svg)" in (kit / "sheet.md").read_text()
-    assert main(["sheet", str(PAPER), "--out", str(kit), "--draws", "0", *SHORT_ROW]) == 2  # no silent overwrite
-    assert "already holds sheet.md" in capsys.readouterr().err
+    (kit / "notes.txt").write_text("mine")  # a folder with the maker's own files: the sheet writes beside them
+    assert main(["sheet", str(PAPER), "--out", str(kit), "--draws", "0", *SHORT_ROW, "--set", "design.La=0.05"]) == 0
+    assert "| 50.0 mm |" in (kit / "sheet.md").read_text() and (kit / "notes.txt").read_text() == "mine"
+    (tmp_path / "file").write_text("")
+    assert main(["sheet", str(PAPER), "--out", str(tmp_path / "file"), "--draws", "0"]) == 2
+    assert "is a file; give a folder" in capsys.readouterr().err
 
 
 def test_the_sheets_builds_show_progress_on_a_terminal():

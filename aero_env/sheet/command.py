@@ -2,8 +2,8 @@
 
     aero-env sheet CONFIG --out DIR|FILE.md|FILE.svg [--draws N] [--seed S] [--set KEY=VALUE ...]
 
-A folder: both, as ``DIR/sheet.md`` and ``DIR/template.svg`` (the folder is made if missing, and
-must not hold an earlier sheet). ``.md``: every part in mm and g (and 1-yen coins), the card pair that gives the friction, where
+A folder: both, as ``DIR/sheet.md`` and ``DIR/template.svg`` (the folder is made if missing; an
+earlier sheet in it is written over, as a file would be). ``.md``: every part in mm and g (and 1-yen coins), the card pair that gives the friction, where
 the counterbalance goes, the spring as the paper measures it, whether the design completes its
 row, and its robustness: the share of hand-made builds (``aero-env robustness``'s tolerances)
 that still complete it. ``.svg``: the template to print and cut (``template.py``): every part at 1:1 and the stand to
@@ -89,10 +89,7 @@ def cmd_sheet(args) -> int:
 
     out = Path(args.out)
     folder = out.suffix == "" or out.is_dir()
-    if folder:
-        for name in (SHEET_NAME, TEMPLATE_NAME):
-            if (out / name).exists():
-                raise ConfigError(f"--out {args.out!r}: already holds {name}; give a new folder or remove it")
+    if folder:  # like a file, the folder's own sheet.md and template.svg are written over
         check_output_dir(out, "--out", overwrite=True)
     else:
         check_output(args.out, "--out", FORMATS)
