@@ -142,14 +142,17 @@ PITCH_DRAWN = {**REDUCED, "env.reward_shaping": 0.9,
                            {"name": "design.m2", "low": 0.0065, "high": 0.009}]}
 
 
-@pytest.mark.parametrize("path", ["arrays", "configs"])
-def test_at_reduced_each_episode_runs_and_is_scored_at_its_own_drawn_pitch(path):
-    from aero_env.models.reduced import simulate_reduced
+@pytest.mark.parametrize("path", ["arrays", "configs", "pymunk"])
+def test_each_episode_runs_and_is_scored_at_its_own_drawn_pitch(path):
+    from aero_env.simulation import simulate
 
-    # design.Cd, which the model does not read, sends the episodes down reduced_batch's config path
-    over = {**PITCH_DRAWN, "tolerance": [{"name": "design.Cd", "relative": 0.2}]} if path == "configs" else PITCH_DRAWN
-    a, b = _rollouts_of_both(8, 3, **over)
-    _check_equal_to_single_envs(a, b, BATCH_ONLY_MISSING)  # the single env builds each episode's config
+    over, missing, kw = PITCH_DRAWN, BATCH_ONLY_MISSING, {}
+    if path == "configs":  # design.Cd, which the model does not read, sends the episodes down reduced_batch's configs
+        over = {**PITCH_DRAWN, "tolerance": [{"name": "design.Cd", "relative": 0.2}]}
+    elif path == "pymunk":  # one design per process-pool task (here in this process), scored by the single env's reward
+        over, missing, kw = {**PITCH_DRAWN, **MBD_FAST}, frozenset(), {"workers": 1}
+    a, b = _rollouts_of_both(8, 3, **kw, **over)
+    _check_equal_to_single_envs(a, b, missing)  # the single env builds each episode's config
     single = gym.make(VARIED_ID, **over)
     w, base = over["env.reward_shaping"], single.unwrapped.config
     single.close()
@@ -166,7 +169,7 @@ def test_at_reduced_each_episode_runs_and_is_scored_at_its_own_drawn_pitch(path)
             # the same episode at the base config's pitch (everything else as the episode set it)
             values = {k: float(v[i]) for part in ("context", "design", "as_built") for k, v in fi[part].items()
                       if not k.startswith("_")}  # the as-built values last, as the episode sets them
-            there = simulate_reduced(base.with_values({**values, "scene.pitch": base.scene.pitch}))
+            there = simulate(base.with_values({**values, "scene.pitch": base.scene.pitch}))
             at_base_pitch_differs += (there.outcome, there.traversals) != (fi["outcome"][i], fi["traversals"][i])
     # a sample the checks can fail on: credits a base-pitch reward would get wrong, runs a base-pitch model would
     assert credited >= 2 and at_base_pitch_differs >= 2, (credited, at_base_pitch_differs)
