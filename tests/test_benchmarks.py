@@ -74,5 +74,7 @@ def test_tuning_benchmarks(script, args, key):
             s["studies"] == 1 and len(s["best_rewards"]) == 1 for s in r["samplers"])
     else:
         (plain,), (screened,) = r["runs"]["cmaes"], r["runs"]["screened"]
-        assert plain["trials"] == 3 and screened["trials"] == 2  # the screen enqueues --confirm designs
-        assert screened["screen_wall"] < screened["wall"] and r["compile_s"] >= 0.0
+        # the screened run scores 50 designs in the reduced model and only its --confirm best in the pymunk world:
+        # fewer pymunk trials than the plain run's --trials (a count; the times are the benchmark's to report)
+        assert plain["trials"] == 3 and screened["trials"] == 2 < plain["trials"]
+        assert r["screen_designs"] == 50 and 0 <= screened["screen_full_rows"] <= 50

@@ -29,8 +29,10 @@ SWING = 1  # the first swing entered from a flight, the one the paper measures
 SCENE = ["--set", "scene.frames=3"]  # frames 0..2: swing 1 and its flight, a third of the full row
 SCENE_OVERRIDES = {"scene.frames": 3}
 TRUE_M3 = 0.0070  # kg: the "measured" machine, off the prototype's 0.0072
-FIT_RANGE = (0.0064, 0.0078)  # kg: the box searched, not centred on the truth
-M3_TOLERANCE = 1e-4  # kg: the fit must land within 0.1 g (1.4 %) of the truth
+# kg: the box searched. Its centre (7.2 g) is 0.2 g from the truth and its 7-point grid's nearest point 0.2 g, so
+# neither the centre nor the grid alone lands within the tolerance; the golden sections must refine between points
+FIT_RANGE = (0.0058, 0.0086)
+M3_TOLERANCE = 5e-5  # kg: the fit must land within 0.05 g (0.7 %) of the truth; measured 0.006 g off
 RECOVERY_TRIALS = 14  # grid of 7 + 7 golden sections
 VIDEO_FPS = 30.0  # a phone video
 NOISE_DEG = 0.5  # Gaussian noise of a hand-clicked angle

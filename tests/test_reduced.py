@@ -8,7 +8,6 @@ import pytest
 
 from aero_env import results as say
 from aero_env.config import ConfigError, load_config
-from aero_env.inertia import RobotParts
 from aero_env.models import reduced, two_link
 from aero_env.models.reduced.layout import P
 from aero_env.models.reduced.params import param_table, raw_from_configs
@@ -266,17 +265,35 @@ def test_the_fast_path_from_arrays_equals_the_configs_and_checks_ranges():
         simulate_batch([base, base.replace({"scene.frames": 4})])
 
 
-def test_the_robot_is_built_from_the_worlds_parts():
-    """One definition: the reduced model's robot is aero_env.inertia.RobotParts (mass without the handrail's card,
-    the torso's centre with the coins), as the pymunk robot is."""
-    cfg = load_config(PAPER)
-    row = param_table(raw_from_configs([cfg]), reduced.STEP)[0]
-    parts = RobotParts(cfg.design)
-    assert row[P.m] == parts.mass == pytest.approx(cfg.design.m2 - cfg.design.handrail_mass)
-    L, dc = parts.arm_length, parts.torso_com
-    assert row[P.Pt] == parts.m_torso * dc  # the torso's first moment about the axle: its centre with the coins
-    assert row[P.Pa] == parts.m_arm * L / 2.0 + parts.m_torso * L
-    assert row[P.Jt] == pytest.approx(parts.I_torso + parts.m_torso * dc**2, rel=1e-12)
+def test_the_robots_masses_and_moments_are_table_1s_worked_by_hand():
+    """The reduced model's robot constants for the prototype, worked out here from Table 1's numbers with the
+    build the paper describes (not through aero_env.inertia): a card strip hanging from the axle, the coins glued
+    flush with its bottom, the arm a uniform rod from the axle to the hook, the handrail's card on the frame."""
+    m2, m_arm, m_coins, m_rail = 7.71e-3, 1.5e-3, 4.0e-3, 0.21e-3  # kg: Table 1's m2, its arm, coins and rail card
+    L, Ld, r, alpha_max = 0.030, 0.060, 0.010, math.radians(120.0)  # m: arm, hook to torso bottom, coin radius
+    d = load_config(PAPER).design
+    assert (d.m2, d.arm_mass, d.coin_mass, d.handrail_mass) == (m2, m_arm, m_coins, m_rail)
+    assert (d.arm_length, d.Ld, d.coin_radius, d.alpha_max_deg) == (L, Ld, r, 120.0)
+    m_card = m2 - m_arm - m_coins - m_rail  # 2.00 g of card
+    m_torso, m = m_card + m_coins, m2 - m_rail  # 6.00 g, 7.50 g
+    # bent to alpha_max the hook is L·sin(120°) = 26.0 mm ahead of the axle and -L·cos(120°) = 15 mm above it;
+    # the torso's bottom, T straight below the axle, is Ld from the hook: (T + 15)² + 26.0² = 60² (mm)
+    T = math.sqrt(Ld**2 - (L * math.sin(alpha_max)) ** 2) + L * math.cos(alpha_max)
+    assert T == pytest.approx(0.039083, abs=1e-6)  # sqrt(2925) - 15 mm
+    c = T - r  # the coins' centre below the axle
+    first = m_card * T / 2 + m_coins * c  # the torso's first moment about the axle
+    second = m_card * T**2 / 3 + m_coins * (r**2 / 2 + c**2)  # a rod about its end; a disc about its axis, shifted
+    row = param_table(raw_from_configs([load_config(PAPER)]), reduced.STEP)[0]
+    expect = {
+        P.m: m, P.mg: m * 9.81,
+        P.Pt: first,  # the torso's first and second moments about the axle
+        P.Jt: second,
+        P.Pa: m_arm * L / 2 + m_torso * L,  # about the hook along the arm: the rod's centre, the torso at the axle
+        P.Ja: m_arm * L**2 / 3 + m_torso * L**2,  # a rod about its end, the torso's mass at the axle
+        P.Pat: L * first,
+    }
+    for key, value in expect.items():
+        assert row[key] == pytest.approx(value, rel=1e-12), key.name
 
 
 def test_the_spring_damping_slows_the_snap_in_both_models():

@@ -1,7 +1,8 @@
 """A shared study under faults (issue 17): workers killed, the server restarted or gone, four workers on
 one SQLite file, Ctrl-C of the coordinator. Each test runs ``aero-env tune`` as a separate process against
 a real server (tests/postgres_server.py) or file, makes the fault happen at a point it observes in the
-storage (never after a sleep), and checks the study the run, or its resume, leaves behind.
+storage (never after a sleep; the one sleep is the length of a fault, the SQLite file's lock held past SQLite's
+default wait), and checks the study the run, or its resume, leaves behind.
 
 Trials are cheap (3 frames at ``sim.fidelity=mbd-fast``, random search); every wait has a generous safety
 limit that only a hung run reaches.
@@ -13,9 +14,11 @@ import os
 import re
 import shlex
 import signal
+import sqlite3
 import subprocess
 import sys
 import time
+from contextlib import closing
 from pathlib import Path
 
 import numpy as np
@@ -119,16 +122,16 @@ def trials_of(storage, study: str) -> list:
     return storage.get_all_trials(study_id, deepcopy=False)
 
 
-def wait_until(predicate, what: str, run: Run):
+def wait_until(predicate, what: str, run: Run, limit: float = LIMIT_S):
     t0 = time.monotonic()
-    while time.monotonic() - t0 < LIMIT_S:
+    while time.monotonic() - t0 < limit:
         got = predicate()
         if got:
             return got
         if run.proc.poll() is not None:
             pytest.fail(f"aero-env tune exited ({run.proc.returncode}) before {what}; stderr:\n{run.stderr[-3000:]}")
         time.sleep(0.05)
-    pytest.fail(f"waited {LIMIT_S} s for {what}; stderr:\n{run.stderr[-3000:]}")
+    pytest.fail(f"waited {limit} s for {what}; stderr:\n{run.stderr[-3000:]}")
 
 
 def count(trials, state: str) -> int:
@@ -286,12 +289,48 @@ def test_a_server_down_too_long_stops_the_run_with_one_line_and_the_command_resu
 
 # ---- four local workers on one SQLite file ----
 
+SQLITE_DEFAULT_TIMEOUT_S = 5.0  # Python's sqlite3 (and so SQLAlchemy's pysqlite) waits this long on a lock by default
+HELD_S = SQLITE_DEFAULT_TIMEOUT_S + 2.0  # the test holds the file's write lock longer than that
+
+
+def completed_in_file(path: Path) -> int:
+    """COMPLETE trials in the SQLite file, read with the sqlite3 module (Optuna's ``trials`` table), not through
+    Optuna or the tuner; 0 before the run has made the table."""
+    with closing(sqlite3.connect(path, timeout=60)) as conn:
+        try:
+            return conn.execute("SELECT count(*) FROM trials WHERE state = 'COMPLETE'").fetchone()[0]
+        except sqlite3.OperationalError as exc:
+            if "no such table" in str(exc):
+                return 0
+            raise
+
+
 def test_four_workers_share_a_sqlite_file_without_database_is_locked(tmp_path):
-    url = f"sqlite:///{tmp_path / 'four.db'}"
+    """Four workers on one file, and the test as a fifth user of it: while it holds a read transaction open the
+    workers still commit trials (WAL: readers never block the writer; in SQLite's default rollback journal a
+    reader holds every commit back), and while it holds the write lock longer than SQLite's default 5 s wait
+    they wait for it instead of failing "database is locked"."""
+    path = tmp_path / "four.db"
+    url = f"sqlite:///{path}"
     run = Run(tmp_path, url, "four", 48, 4)
+    wait_until(lambda: completed_in_file(path) >= 4, "4 trials were COMPLETE", run)
+    with closing(sqlite3.connect(path, timeout=60, isolation_level=None)) as held:
+        held.execute("BEGIN")
+        before = held.execute("SELECT count(*) FROM trials WHERE state = 'COMPLETE'").fetchone()[0]
+        # a healthy run commits 8 trials in about a second; without WAL none is committed while the read is open
+        wait_until(lambda: completed_in_file(path) >= before + 8, "8 trials committed past an open read", run,
+                   limit=30)
+        held.execute("COMMIT")
+        held.execute("BEGIN IMMEDIATE")  # the write lock: every worker's next commit waits for it
+        locked = held.execute("SELECT count(*) FROM trials WHERE state = 'COMPLETE'").fetchone()[0]
+        time.sleep(HELD_S)  # the fault's length, not a wait for the run: nothing can be committed meanwhile
+        assert run.proc.poll() is None and locked < 48  # the workers had trials to commit while it was held
+        held.execute("COMMIT")
     assert run.wait() == 0, run.stderr[-3000:]
     no_traceback(run)
     assert "database is locked" not in run.stderr and "lost the database" not in run.stderr, run.stderr[-3000:]
+    with closing(sqlite3.connect(path)) as conn:  # the mode is the file's, read back by SQLite itself
+        assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
     db = reader(url)
     by_number = check_study(db, "four", 48)
     assert count(by_number.values(), "FAIL") == 0

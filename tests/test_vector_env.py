@@ -134,6 +134,47 @@ def test_at_reduced_the_episodes_go_to_the_model_without_a_config_each(monkeypat
     assert rewards.shape == (3,)
 
 
+# the varied scene's context with the pitch drawn too (the file observes it at 76 mm), and the shaped reward,
+# whose near-miss credit w·(1 - miss / pitch) is the one place the reward reads the pitch
+PITCH_DRAWN = {**REDUCED, "env.reward_shaping": 0.9,
+               "context": [{"name": "scene.rise", "low": 0.0, "high": 0.004},
+                           {"name": "scene.pitch", "low": 0.070, "high": 0.082},
+                           {"name": "design.m2", "low": 0.0065, "high": 0.009}]}
+
+
+@pytest.mark.parametrize("path", ["arrays", "configs", "pymunk"])
+def test_each_episode_runs_and_is_scored_at_its_own_drawn_pitch(path):
+    from aero_env.simulation import simulate
+
+    over, missing, kw = PITCH_DRAWN, BATCH_ONLY_MISSING, {}
+    if path == "configs":  # design.Cd, which the model does not read, sends the episodes down reduced_batch's configs
+        over = {**PITCH_DRAWN, "tolerance": [{"name": "design.Cd", "relative": 0.2}]}
+    elif path == "pymunk":  # one design per process-pool task (here in this process), scored by the single env's reward
+        over, missing, kw = {**PITCH_DRAWN, **MBD_FAST}, frozenset(), {"workers": 1}
+    a, b = _rollouts_of_both(8, 3, **kw, **over)
+    _check_equal_to_single_envs(a, b, missing)  # the single env builds each episode's config
+    single = gym.make(VARIED_ID, **over)
+    w, base = over["env.reward_shaping"], single.unwrapped.config
+    single.close()
+    credited = at_base_pitch_differs = 0
+    for _, rewards, _, _, info in a[1:]:
+        fi = info["final_info"]
+        pitch, miss = fi["context"]["scene.pitch"], fi["miss_distance"]
+        assert len(set(pitch)) == len(pitch) and base.scene.pitch not in pitch  # drawn per episode, off the base's
+        for i, r in enumerate(rewards):
+            credit = r - fi["traversals"][i]
+            if credit > 0.0:  # a near miss' credit, by hand with the episode's own pitch
+                assert credit == pytest.approx(w * (1.0 - miss[i] / pitch[i]), rel=1e-12), i
+                credited += 1
+            # the same episode at the base config's pitch (everything else as the episode set it)
+            values = {k: float(v[i]) for part in ("context", "design", "as_built") for k, v in fi[part].items()
+                      if not k.startswith("_")}  # the as-built values last, as the episode sets them
+            there = simulate(base.with_values({**values, "scene.pitch": base.scene.pitch}))
+            at_base_pitch_differs += (there.outcome, there.traversals) != (fi["outcome"][i], fi["traversals"][i])
+    # a sample the checks can fail on: credits a base-pitch reward would get wrong, runs a base-pitch model would
+    assert credited >= 2 and at_base_pitch_differs >= 2, (credited, at_base_pitch_differs)
+
+
 def test_reduced_batch_takes_the_config_path_for_mixed_or_no_fields_and_words_errors_as_with_values():
     from aero_env.config import Config
     from aero_env.envs.aerial_acrobat_vector import reduced_batch
