@@ -179,6 +179,7 @@ def stand(cfg: Config) -> Part:
         return x_m * f, -y_m * f
 
     rest, stop = math.radians(d.rest_angle_deg), math.radians(d.stop_angle_deg)
+    dot = min(PIN, 4.0 / k)  # markers shrink with the scale, so a long row stays legible
     els, pts = [], []
     for i in range(s.frames):
         ax, ay = i * s.pitch, i * s.rise
@@ -186,13 +187,13 @@ def stand(cfg: Config) -> Part:
         a = at(ax - d.Lb * c, ay - d.Lb * sn)
         b = at(ax + d.La * c, ay + d.La * sn)
         els.append(_line(*a, *b, 'stroke="sienna" stroke-width="0.5"'))
-        els.append(_circle(*at(ax, ay), HOLE * 0.8, 'fill="black"'))
+        els.append(_circle(*at(ax, ay), dot, 'fill="black"'))
         # stopper skewers, on the counterbalance's arm halfway out: under it at rest, over it at the end stop
         for angle, side in ((rest, -1.0), (stop, 1.0)):
             r, off = d.La / 2, side * (S / 2 + 1.0) / 1e3  # a 2 mm skewer against the card's edge
             px = ax + r * math.cos(angle) - off * math.sin(angle)
             py = ay + r * math.sin(angle) + off * math.cos(angle)
-            els.append(_circle(*at(px, py), PIN, 'fill="none" stroke="blue" stroke-width="0.3"'))
+            els.append(_circle(*at(px, py), dot, 'fill="none" stroke="blue" stroke-width="0.3"'))
             pts.append(at(px, py))
         pts += [a, b]
     x_first, x_last = -d.Lb, (s.frames - 1) * s.pitch + d.La
