@@ -216,7 +216,7 @@ def screen(cfg: Config, settings: TuneSettings) -> dict:
     draws = [space.draw(seeding.np_random(s)[0]) for s in seeds]  # what env.reset(seed=s) draws
     values = [space.values(a) for a in actions]
     if cheap.sim.model == "reduced":
-        from aero_env.envs.aerial_acrobat_vector import reduced_batch
+        from aero_env.models.reduced.batch import reduced_batch
 
         # one batch of every (design, draw) episode, without a Config per design where the model reads every field
         paid = reduced_batch(cheap, [space.episode_values(v, d)[0] for v in values for d in draws])[1]

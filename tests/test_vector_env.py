@@ -136,7 +136,7 @@ def test_at_reduced_the_episodes_go_to_the_model_without_a_config_each(monkeypat
 
 def test_reduced_batch_takes_the_config_path_for_mixed_or_no_fields_and_words_errors_as_with_values():
     from aero_env.config import Config
-    from aero_env.envs.aerial_acrobat_vector import reduced_batch
+    from aero_env.models.reduced.batch import reduced_batch
     from aero_env.models.reduced import simulate_batch, simulate_designs
 
     base = Config().replace({"scene.frames": 2})
