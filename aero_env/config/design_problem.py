@@ -11,7 +11,7 @@ from dataclasses import dataclass, field, fields
 from typing import Any, Mapping
 
 from .sections import real_field
-from .validation import ConfigError, _check_value, _unknown_key, _with_unit
+from .validation import ConfigError, check_value, _unknown_key, _with_unit
 
 
 def _item(doc: str, unit: str = "-", default: Any = None):
@@ -100,7 +100,7 @@ def _build_list(section: str, data: Any) -> tuple:
 
 def _bound(entry: Mapping, key: str, where: str, name: str, f: dataclasses.Field) -> float:
     """``entry[key]`` checked against the range of the field it sets."""
-    return _check_value(f"{where}.{key} (a value of {name})", f, entry[key])
+    return check_value(f"{where}.{key} (a value of {name})", f, entry[key])
 
 
 def _tunable(entry, where, name, f) -> Tunable:

@@ -14,9 +14,9 @@ import yaml
 
 from .design_problem import (DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, ContextRange, Tolerance, Tunable,
                              _build_list)
-from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, EnvOptions, Scene, Sim, _check_design,
+from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, EnvOptions, Scene, Sim, check_design,
                        _check_sim, real_field)
-from .validation import ConfigError, _build, _check_value, _range_text, did_you_mean
+from .validation import ConfigError, _build, check_value, _range_text, did_you_mean
 
 
 @dataclass(frozen=True)
@@ -45,7 +45,7 @@ class Config:
         low, high = t.low * base, t.high * base
         f = real_field(t.name, f"tunable[{i}].name")
         for key, v in (("low", low), ("high", high)):
-            _check_value(f"tunable[{i}].{key} ({getattr(t, key):g} x {t.relative_to} = {v:.6g}, a value of {t.name})",
+            check_value(f"tunable[{i}].{key} ({getattr(t, key):g} x {t.relative_to} = {v:.6g}, a value of {t.name})",
                          f, v)
         return low, high
 
@@ -80,10 +80,10 @@ class Config:
         for key, v in values.items():
             f = real_field(key, "key")
             sec, name = key.split(".", 1)
-            changes[sec][name] = _check_value(key, f, v)
+            changes[sec][name] = check_value(key, f, v)
         cfg = dataclasses.replace(self, design=dataclasses.replace(self.design, **changes["design"]),
                                   scene=dataclasses.replace(self.scene, **changes["scene"]))
-        _check_design(cfg.design)
+        check_design(cfg.design)
         return cfg
 
     def replace(self, overrides: Mapping[str, Any]) -> "Config":
@@ -133,7 +133,7 @@ def from_dict(data: Mapping[str, Any] | None, overrides: Mapping[str, Any] | Non
     sections = {name: _build(cls, tree.get(name), name) for name, cls in SECTIONS.items()}
     lists = {name: _build_list(name, tree[name]) for name in LIST_SECTIONS if name in tree}
     cfg = Config(**sections, **lists)
-    _check_design(cfg.design)
+    check_design(cfg.design)
     _check_sim(cfg.sim)
     _check_design_problem(cfg)
     return cfg

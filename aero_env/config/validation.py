@@ -1,7 +1,8 @@
 """Checking one config value against its declaration, and the error messages that name it.
 
-:class:`ConfigError` is what every bad config raises; ``_check_value`` reads a value (with or
-without its unit) and checks its type and range; ``_build`` checks a mapping into a section.
+:class:`ConfigError` is what every bad config raises; ``check_value`` reads a value (with or
+without its unit) and checks its type and range, ``check_values`` an array of numbers the same way (the
+reduced model's fast path); ``_build`` checks a mapping into a section.
 """
 
 from __future__ import annotations
@@ -11,6 +12,8 @@ import difflib
 import math
 from dataclasses import fields
 from typing import Any, Mapping
+
+import numpy as np
 
 from .. import quantities
 
@@ -22,7 +25,9 @@ class ConfigError(ValueError):
 ConfigError.__module__ = "aero_env.config"  # tracebacks (and the docs quoting them) name it where it is imported from
 
 
-def _check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
+def check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
+    """``value`` (a number, or a string with its unit) read and checked against the field ``f`` declares; a bad one
+    raises one line naming ``path``, the value and the allowed range."""
     meta = f.metadata
     typ = f.type if isinstance(f.type, type) else {"float": float, "int": int, "bool": bool, "str": str}.get(f.type)
     if typ is bool:
@@ -50,17 +55,31 @@ def _check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
         shown = repr(value)
     if not math.isfinite(value):
         raise ConfigError(f"{path} = {shown}: must be finite, in {_range_text(meta)}")
-    if not _in_range(meta, value):
-        hint = quantities.smaller_unit_hint(value, meta["unit"], lambda v: _in_range(meta, v)) if plain else ""
+    if not in_range(meta, value):
+        hint = quantities.smaller_unit_hint(value, meta["unit"], lambda v: in_range(meta, v)) if plain else ""
         raise ConfigError(f"{path} = {shown}: out of range, allowed {_range_text(meta)}{hint}")
     return value
 
 
-def _in_range(meta: Mapping[str, Any], value: float) -> bool:
+def in_range(meta: Mapping[str, Any], value):
+    """Whether ``value`` lies in the range ``meta`` declares: a bool for a number, elementwise for an array."""
     lo, hi = meta["lo"], meta["hi"]
-    if lo is not None and (value < lo or (meta["lo_open"] and value == lo)):
-        return False
-    return hi is None or value <= hi
+    ok = np.ones(np.shape(value), dtype=bool)
+    if lo is not None:
+        ok &= (value > lo) if meta["lo_open"] else (value >= lo)
+    if hi is not None:
+        ok &= value <= hi
+    return ok if ok.ndim else bool(ok)
+
+
+def check_values(path: str, f: dataclasses.Field, values: np.ndarray) -> None:
+    """:func:`check_value` of every entry of a 1-D array of numbers, vectorised: the first bad entry is refused
+    as ``check_value`` refuses it, its index after the key (``design.m3[1] = -1.0: out of range, allowed ...``)."""
+    bad = ~(np.isfinite(values) & in_range(f.metadata, values))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        check_value(f"{path}[{i}]", f, float(values[i]))
+        raise AssertionError(f"{path}[{i}] = {values[i]!r}: refused by in_range, accepted by check_value")
 
 
 def _with_unit(path: str, value: Any, unit: str) -> tuple[Any, bool]:
@@ -131,5 +150,5 @@ def _build(cls, data: Any, path: str):
         if sub is not None and dataclasses.is_dataclass(sub):
             kwargs[name] = _build(sub, data[name], f"{path}.{name}")
         else:
-            kwargs[name] = _check_value(f"{path}.{name}", f, data[name])
+            kwargs[name] = check_value(f"{path}.{name}", f, data[name])
     return cls(**kwargs)
