@@ -57,7 +57,7 @@ mouth, ``sim_time`` when the runner would stop (a decided miss: the centre of ma
 floor, in closed form, or the flight timeout; the end of the step in which the last frame carried
 the robot through its lowest point; a catch that did not hold: its detach + ``contact_hold``).
 A catch is a traversal only once its frame has carried the robot through its lowest point
-(``results.CARRIED_THETA1_DEG``, read at the end of each hooked step and at the detach, ``t_carried``);
+(``physics.swing_rules.CARRIED_THETA1_DEG``, read at the end of each hooked step and at the detach, ``t_carried``);
 a caught robot that lets go before that ends the run (``missed_catch``: a catch that did not hold).
 Stalls the runner only ends by its timeouts are ended early (``STALL_WINDOW``) and reported at the
 runner's time.

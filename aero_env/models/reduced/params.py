@@ -14,7 +14,7 @@ import numpy as np
 from ... import units
 from ...config import Config, ConfigError, check_design
 from ...inertia import RobotParts, spring_damping_coefficient
-from ...results import held_past_angle
+from ...physics.swing_rules import held_past_angle
 from .constants import DRY_FRICTION_RATE, DRY_FRICTION_STEP, MOUTH_END_REACH, STEP
 from .layout import P
 
