@@ -13,10 +13,10 @@ from typing import Any, Mapping
 import yaml
 
 from .design_problem import (DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, ContextRange, Tolerance, Tunable,
-                             _build_list)
+                             build_list)
 from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, EnvOptions, Scene, Sim, check_design,
-                       _check_sim, real_field)
-from .validation import ConfigError, _build, check_value, _range_text, did_you_mean
+                       check_sim, real_field)
+from .validation import ConfigError, build_section, check_value, did_you_mean, range_text
 
 
 @dataclass(frozen=True)
@@ -130,11 +130,11 @@ def from_dict(data: Mapping[str, Any] | None, overrides: Mapping[str, Any] | Non
         hint = did_you_mean(unknown[0], SECTIONS | LIST_SECTIONS)
         raise ConfigError(f"{unknown[0]}: unknown section{hint}; allowed sections are "
                           f"{sorted(SECTIONS | LIST_SECTIONS)}")
-    sections = {name: _build(cls, tree.get(name), name) for name, cls in SECTIONS.items()}
-    lists = {name: _build_list(name, tree[name]) for name in LIST_SECTIONS if name in tree}
+    sections = {name: build_section(cls, tree.get(name), name) for name, cls in SECTIONS.items()}
+    lists = {name: build_list(name, tree[name]) for name in LIST_SECTIONS if name in tree}
     cfg = Config(**sections, **lists)
     check_design(cfg.design)
-    _check_sim(cfg.sim)
+    check_sim(cfg.sim)
     _check_design_problem(cfg)
     return cfg
 
@@ -151,7 +151,7 @@ def _apply_fidelity(tree: dict, overrides: Mapping[str, Any]) -> None:
     if sim is None:
         sim = tree["sim"] = {}
     if not isinstance(sim, dict):
-        return  # _build names the problem
+        return  # build_section names the problem
     name = sim.get("fidelity", DEFAULT_FIDELITY)
     if not isinstance(name, str) or name not in FIDELITY_PRESETS:
         raise ConfigError(f"sim.fidelity = {name!r}: must be one of {list(FIDELITY_PRESETS)} (cheapest first)")
@@ -256,7 +256,7 @@ def schema_rows() -> list[tuple[str, str, str, str, str]]:
                 continue
             m = f.metadata
             allowed = ("one of " + ", ".join(m["choices"])) if m["choices"] else (
-                "true/false" if f.type in (bool, "bool") else _range_text(m))
+                "true/false" if f.type in (bool, "bool") else range_text(m))
             rows.append((f"{prefix}.{f.name}", repr(f.default), m["unit"], allowed, m["doc"]))
 
     for name, cls in SECTIONS.items():

@@ -266,7 +266,7 @@ def check_design(d) -> None:
             raise ConfigError(refusal(_Entry(d, i), f"[{i}]"))
 
 
-def _check_sim(s: Sim) -> None:
+def check_sim(s: Sim) -> None:
     step = s.dt * s.substeps  # the pymunk runner samples contact once per runner step (reduced finds events exactly)
     if s.model == "mbd" and s.contact_hold < 5 * step:
         raise ConfigError(f"sim.contact_hold = {s.contact_hold!r}: must span at least 5 runner steps of sim.dt = "
