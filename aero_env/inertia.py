@@ -5,10 +5,11 @@ Shared by the pymunk world and the analytical models so that both use one defini
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Any
 
-if TYPE_CHECKING:  # the config's checks use torso_build, so inertia must not import the config at run time
-    from .config import Design
+# a design: an aero_env.config.Design, or any object with its fields. The config's checks use this module
+# (min_Ld, torso_build), so it does not import the config, not even for a type.
+Design = Any
 
 
 def frame_inertia(d: Design, convention: str = "consistent") -> float:

@@ -6,7 +6,7 @@ a batch of the reduced model at once) all score a run here, so "the reward of a 
 objective at every fidelity:
 
 * each consecutive traversal (a seated catch by the next frame that then carried the robot through its
-  lowest point: :data:`aero_env.results.CARRIED_THETA1_DEG`) pays 1;
+  lowest point: :data:`aero_env.physics.swing_rules.CARRIED_THETA1_DEG`) pays 1;
 * with ``env.reward_shaping = w > 0``, a failed transfer that was a real flight (the hook let go of
   the frame that last caught it: :attr:`aero_env.results.SimResult.flew`) adds
   ``w · max(0, 1 - miss_distance / scene.pitch)``: how close the flight came to the next seat.

@@ -97,7 +97,8 @@ def _same_command() -> str:
 
 def cmd_tune(args) -> int:
     from .study_faults import StorageUnavailable, redact
-    from .tune import TuneInterrupted, TuneSettings, plot_history, summary_lines, tune, write_best_yaml
+    from .tune import TuneInterrupted, plot_history, summary_lines, tune, write_best_yaml
+    from .tune_settings import TuneSettings
 
     out = Path(args.out)
     plot = Path(args.plot) if args.plot else out.with_name(f"{out.stem}_history.png")

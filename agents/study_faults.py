@@ -1,6 +1,6 @@
 """What goes wrong in a tuning run, and how a process tells: a lost database and a process gone.
 
-A database error (:func:`_is_db_error`, never one that Ctrl-C caused) is retried by :class:`_Reconnect`
+A database error (:func:`is_db_error`, never one that Ctrl-C caused) is retried by :class:`Reconnect`
 for ``reconnect_s`` (default ``RECONNECT_S``), then :class:`StorageUnavailable`. A process is named by
 its stamp (:func:`process_stamp`: host, boot, pid namespace, pid and start time), and
 :func:`process_gone` says when the stamped process has certainly gone from this host.
@@ -54,7 +54,7 @@ class StorageUnavailable(RuntimeError):
         self.storage, self.study, self.seconds, self.why = storage, study, seconds, why
 
 
-def _chain(exc: BaseException | None):
+def exception_chain(exc: BaseException | None):
     """``exc``, then what caused it or was being handled when it was raised, and so on."""
     seen: set[int] = set()
     while exc is not None and id(exc) not in seen:
@@ -63,14 +63,14 @@ def _chain(exc: BaseException | None):
         exc = exc.__cause__ or exc.__context__
 
 
-def _interrupted(exc: BaseException | None) -> bool:
+def interrupted(exc: BaseException | None) -> bool:
     """Ctrl-C somewhere in ``exc``'s chain: Optuna, SQLAlchemy or a driver cut by it raise another error
     (Optuna's own "Should not reach", an UnboundLocalError, a connection invalidated), which must stop the
     run as Ctrl-C does, never be retried as a lost connection."""
-    return any(isinstance(e, KeyboardInterrupt) for e in _chain(exc))
+    return any(isinstance(e, KeyboardInterrupt) for e in exception_chain(exc))
 
 
-def _is_db_error(exc: BaseException | None) -> bool:
+def is_db_error(exc: BaseException | None) -> bool:
     """A lost or refused connection, or a busy SQLite database, anywhere in ``exc``'s chain (Optuna wraps
     SQLAlchemy's errors in StorageInternalError, and an error while handling one may be raised instead);
     never one that Ctrl-C caused."""
@@ -78,23 +78,23 @@ def _is_db_error(exc: BaseException | None) -> bool:
         import sqlalchemy.exc as sa
     except ImportError:
         return False
-    if _interrupted(exc):
+    if interrupted(exc):
         return False
     return any(isinstance(e, (sa.OperationalError, sa.InterfaceError, sa.DisconnectionError))
-               or (isinstance(e, sa.DBAPIError) and e.connection_invalidated) for e in _chain(exc))
+               or (isinstance(e, sa.DBAPIError) and e.connection_invalidated) for e in exception_chain(exc))
 
 
 def _db_reason(exc: BaseException) -> str:
     """The database error in ``exc``'s chain, in one line: the driver's message, not Optuna's wrapper."""
     import sqlalchemy.exc as sa
 
-    found = next((e for e in _chain(exc) if isinstance(e, (sa.OperationalError, sa.InterfaceError,
+    found = next((e for e in exception_chain(exc) if isinstance(e, (sa.OperationalError, sa.InterfaceError,
                                                            sa.DisconnectionError))), exc)
     text = str(getattr(found, "orig", None) or found).strip().splitlines()
     return f"{type(found).__name__}: {text[0] if text else ''}"
 
 
-class _Reconnect:
+class Reconnect:
     """Calls ``fn()`` again after a database error, waiting 0.2 s, 0.4 s, ... up to 5 s between tries, for
     ``seconds`` in all; then raises :class:`StorageUnavailable`. Says once, in one line, that it waits."""
 
@@ -107,9 +107,9 @@ class _Reconnect:
             try:
                 return fn()
             except Exception as exc:
-                if _interrupted(exc):
+                if interrupted(exc):
                     raise KeyboardInterrupt from None
-                if not _is_db_error(exc):
+                if not is_db_error(exc):
                     raise
                 now = time.monotonic()
                 if deadline is None:

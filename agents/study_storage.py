@@ -5,7 +5,7 @@ so local workers do not meet "database is locked". On an RDB storage the process
 stamped on it (``system_attrs["aero_process"]``: host, boot, pid namespace, pid and start time) in the
 transaction that makes it RUNNING; :func:`fail_dead_trials` fails the RUNNING trials whose process is
 gone from this host or never beat, and :func:`requeue_trial` (also the heartbeat's callback) queues
-their designs again. :func:`_load_study` refuses to resume a study with another scene, seed count or
+their designs again. :func:`load_study` refuses to resume a study with another scene, seed count or
 sampler.
 """
 
@@ -17,14 +17,11 @@ import logging
 import time
 import warnings
 from datetime import datetime, timedelta
-from typing import TYPE_CHECKING
 
 from aero_env.config import Config, ConfigError
 
-from .study_faults import _chain, _interrupted, _is_db_error, process_gone, process_stamp, redact
-
-if TYPE_CHECKING:
-    from .tune import TuneSettings
+from .study_faults import exception_chain, interrupted, is_db_error, process_gone, process_stamp, redact
+from .tune_settings import TuneSettings
 
 HEARTBEAT_S = 10          # a trial's process marks it alive this often (RDB storages) ...
 GRACE_S = 60              # ... and a trial silent this long is failed by the next trial's start
@@ -38,15 +35,15 @@ FINISHED = ("COMPLETE", "PRUNED", "FAIL")
 class _QuietInterrupts(logging.Filter):
     """Ctrl-C fails the running trial, which Optuna logs as a warning with a traceback (and then its value,
     None); :class:`TuneInterrupted` says it in one line instead. So does a lost database connection
-    (:class:`_Reconnect` says it). Other failures are logged as before."""
+    (:class:`Reconnect` says it). Other failures are logged as before."""
 
     def __init__(self):
         super().__init__()
         self.trial: str | None = None
 
     def filter(self, record: logging.LogRecord) -> bool:
-        if record.exc_info and (_interrupted(record.exc_info[1]) or _is_db_error(record.exc_info[1])
-                                or _finished_elsewhere(record.exc_info[1])):
+        if record.exc_info and (interrupted(record.exc_info[1]) or is_db_error(record.exc_info[1])
+                                or finished_elsewhere(record.exc_info[1])):
             self.trial = record.getMessage().split(" ", 2)[1]  # "Trial N failed with parameters: ..."
             return False
         if self.trial is not None and record.getMessage().startswith(f"Trial {self.trial} failed with value"):
@@ -61,11 +58,11 @@ _QUIET = _QuietInterrupts()
 def _quiet_fallback(record: logging.LogRecord) -> bool:
     """Optuna's RDB storage logs a lost connection while reading trials as a many-line warning ("Caught an
     error from sqlalchemy ... Falling back to a slower alternative") before the error itself is raised;
-    :class:`_Reconnect` says it in one line."""
+    :class:`Reconnect` says it in one line."""
     return not record.getMessage().startswith("Caught an error from sqlalchemy")
 
 
-def _optuna():
+def import_optuna():
     try:
         import optuna
     except ImportError:
@@ -82,7 +79,7 @@ def _optuna():
 
 def make_sampler(name: str, seed: int):
     """The Optuna sampler for ``name``, seeded."""
-    optuna = _optuna()
+    optuna = import_optuna()
     if name == "cmaes":
         # Optuna's defaults (mean at the box's centre, sigma0 a sixth of the box) on the cmaes
         # package; Optuna 5 deprecates x0/sigma0 and dropped IPOP restarts, so none is set here.
@@ -93,7 +90,7 @@ def make_sampler(name: str, seed: int):
 
 
 def open_storage(url: str):
-    optuna = _optuna()
+    optuna = import_optuna()
     if url == "memory":
         return optuna.storages.InMemoryStorage()
     if url.startswith("sqlite"):  # a busy database waits (up to 60 s) instead of failing "database is locked"
@@ -136,7 +133,7 @@ def _storage_class():
     global _STORAGE_CLASS
     if _STORAGE_CLASS is not None:
         return _STORAGE_CLASS
-    optuna = _optuna()
+    optuna = import_optuna()
     from optuna.trial import FrozenTrial, TrialState
 
     class TuneStorage(optuna.storages.RDBStorage):
@@ -183,7 +180,7 @@ def _storage_class():
             try:
                 super().record_heartbeat(trial_id)
             except Exception as exc:
-                if not _is_db_error(exc):
+                if not is_db_error(exc):
                     raise
                 self.remove_session()  # this thread's session: a fresh one for the next beat
 
@@ -191,12 +188,12 @@ def _storage_class():
     return TuneStorage
 
 
-def _finished_elsewhere(exc: BaseException | None) -> bool:
+def finished_elsewhere(exc: BaseException | None) -> bool:
     """The running trial was finished by another process (failed as stale): Optuna's error in recording it."""
-    optuna = _optuna()
-    return not _interrupted(exc) and any(
+    optuna = import_optuna()
+    return not interrupted(exc) and any(
         isinstance(e, optuna.exceptions.UpdateFinishedTrialError)
-        or (isinstance(e, ValueError) and str(e).startswith("Cannot tell a")) for e in _chain(exc))
+        or (isinstance(e, ValueError) and str(e).startswith("Cannot tell a")) for e in exception_chain(exc))
 
 
 # ---- dead processes' trials ----
@@ -204,7 +201,7 @@ def _finished_elsewhere(exc: BaseException | None) -> bool:
 def requeue_trial(study, trial) -> None:
     """A failed trial's design queued again (WAITING, same params and system attrs but the process stamp),
     at most ``MAX_RETRY`` times; Optuna's RetryHeartbeatStaleTrialCallback without carrying the stamp."""
-    optuna = _optuna()
+    optuna = import_optuna()
     attrs = {k: v for k, v in trial.system_attrs.items() if k != PROCESS_ATTR}
     history = [*attrs.get("retry_history", []), trial.number]
     if len(history) > MAX_RETRY:
@@ -215,7 +212,7 @@ def requeue_trial(study, trial) -> None:
 
 
 def _fail_and_requeue(study, storage, trial_id: int) -> bool:
-    optuna = _optuna()
+    optuna = import_optuna()
     try:
         if not storage.set_trial_state_values(trial_id, state=optuna.trial.TrialState.FAIL):
             return False
@@ -232,7 +229,7 @@ def fail_dead_trials(study) -> list[int]:
     storage = getattr(study._storage, "_backend", study._storage)
     if not hasattr(storage, "owned"):
         return []
-    optuna = _optuna()
+    optuna = import_optuna()
     running = study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,))
     since = datetime.now() - timedelta(seconds=storage.grace_period or GRACE_S)
     old = {t._trial_id for t in running if t.datetime_start is not None and t.datetime_start < since}
@@ -242,7 +239,7 @@ def fail_dead_trials(study) -> list[int]:
             and _fail_and_requeue(study, storage, t._trial_id)]
 
 
-def _release_orphans(study, storage) -> list[int]:
+def release_orphans(study, storage) -> list[int]:
     """Fail (and queue again) the trials this process made RUNNING and no longer runs: a lost connection
     cut them, or Ctrl-C came while Optuna was recording them. Called between trials only."""
     released = []
@@ -261,8 +258,8 @@ def config_fingerprint(cfg: Config) -> str:
     return hashlib.sha256(json.dumps(cfg.to_dict(), sort_keys=True).encode()).hexdigest()[:16]
 
 
-def _load_study(cfg: Config, settings: TuneSettings, storage, name: str, sampler):
-    optuna = _optuna()
+def load_study(cfg: Config, settings: TuneSettings, storage, name: str, sampler):
+    optuna = import_optuna()
     study = optuna.create_study(storage=storage, study_name=name, sampler=sampler, direction="maximize",
                                 load_if_exists=True)
     mark = study.user_attrs.get("config_fingerprint")
@@ -286,10 +283,10 @@ def _load_study(cfg: Config, settings: TuneSettings, storage, name: str, sampler
 
 
 def _finished(study) -> list:
-    optuna = _optuna()
+    optuna = import_optuna()
     states = tuple(getattr(optuna.trial.TrialState, s) for s in FINISHED)
     return study.get_trials(deepcopy=False, states=states)
 
 
-def _complete(study) -> list:
+def complete_trials(study) -> list:
     return [t for t in _finished(study) if t.state.name == "COMPLETE"]

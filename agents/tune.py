@@ -49,63 +49,13 @@ from pathlib import Path
 
 import numpy as np
 
-from aero_env.config import FIDELITY_PRESETS, Config, ConfigError
+from aero_env.config import Config
 from aero_env.design_space import DesignSpace
 
-from .options import SAMPLERS, check_choice, check_ints
-from .study_faults import RECONNECT_S, _is_db_error, _Reconnect, redact
-from .study_storage import _complete, _load_study, _release_orphans, fail_dead_trials, make_sampler, open_storage
-from .tune_workers import _run_trials, _run_workers, _worker_name
-
-DEFAULT_FILE_STORAGE = "sqlite:///aero-env-tune.db"  # used when a study must outlive the process
-
-
-@dataclass(frozen=True)
-class TuneSettings:
-    """What ``aero-env tune`` was asked to do; every field is checked by :meth:`check`."""
-
-    sampler: str = "cmaes"
-    trials: int = 100
-    seeds_per_design: int = 1
-    seed: int = 0
-    storage: str | None = None      # None: memory with one worker and no study name, else DEFAULT_FILE_STORAGE
-    study: str | None = None        # None: "<config stem>-<sampler>-s<seed>"
-    workers: int = 1
-    progress: bool = True
-    screen: str | None = None       # a cheaper fidelity to screen random designs with (e.g. reduced)
-    screen_designs: int = 20000     # designs the screen scores
-    reconnect_s: float = RECONNECT_S  # a lost database is retried this long before the run stops
-
-    def check(self) -> "TuneSettings":
-        check_choice("sampler", self.sampler, SAMPLERS)
-        check_ints(self, (("trials", 1, 10**7), ("seeds_per_design", 1, 10**4), ("workers", 1, 512),
-                          ("seed", 0, 2**31 - 1), ("screen_designs", 1, 10**8)))
-        if (isinstance(self.reconnect_s, bool) or not isinstance(self.reconnect_s, (int, float))
-                or not 0 <= self.reconnect_s <= 86400):
-            raise ConfigError(f"--reconnect {self.reconnect_s!r}: seconds in [0, 86400]")
-        if self.screen is not None:
-            check_choice("screen", self.screen, tuple(FIDELITY_PRESETS))
-        if self.storage is not None and self.storage != "memory" and "://" not in self.storage:
-            raise ConfigError(f"--storage {self.storage!r}: must be 'memory' or a database URL "
-                              f"(sqlite:///FILE.db, postgresql://USER@HOST:PORT/DB)")
-        if self.storage == "memory" and self.workers > 1:
-            raise ConfigError(f"--storage memory with --workers {self.workers}: processes cannot share an "
-                              f"in-memory study; give --storage sqlite:///FILE.db or a postgresql:// URL")
-        return self
-
-    def resolved_storage(self) -> str:
-        if self.storage is not None:
-            return self.storage
-        return "memory" if self.workers == 1 and self.study is None else DEFAULT_FILE_STORAGE
-
-    def study_name(self, config_name: str) -> str:
-        return self.study or f"{config_name}-{self.sampler}-s{self.seed}"
-
-    @property
-    def eval_seeds(self) -> tuple[int, ...]:
-        """The episode seeds every design is scored on (the same for every trial and every tuning seed)."""
-        return tuple(range(self.seeds_per_design))
-
+from .study_faults import Reconnect, is_db_error, redact
+from .study_storage import complete_trials, fail_dead_trials, load_study, make_sampler, open_storage, release_orphans
+from .tune_settings import TuneSettings
+from .tune_workers import run_trials, run_workers, worker_name
 
 @dataclass
 class TuneResult:
@@ -156,8 +106,8 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
     url = settings.resolved_storage()
     name = settings.study_name(config_name)
     storage = open_storage(url)
-    study = _load_study(cfg, settings, storage, name, make_sampler(settings.sampler, settings.seed))
-    reconnect = _Reconnect(settings.reconnect_s, "tune", url, name, reset=storage.remove_session)
+    study = load_study(cfg, settings, storage, name, make_sampler(settings.sampler, settings.seed))
+    reconnect = Reconnect(settings.reconnect_s, "tune", url, name, reset=storage.remove_session)
     t0 = time.perf_counter()
     workers: list[dict] = []
     try:
@@ -170,27 +120,27 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
         if failed:
             print(f"aero-env tune: trial(s) {', '.join(map(str, failed))} were left RUNNING by processes gone from "
                   f"this host: failed, and their designs queued again", file=sys.stderr, flush=True)
-        done = len(reconnect(lambda: _complete(study)))
+        done = len(reconnect(lambda: complete_trials(study)))
         remaining = max(0, settings.trials - done)
         with _Progress(settings.trials, done, enabled=settings.progress and remaining > 0) as bar:
             if remaining and settings.workers == 1:
                 ran: list[int] = []
-                workers.append(dict(worker=_worker_name(0), trials=ran))
-                _run_trials(cfg, settings, storage, name, remaining, 0, on_trial=lambda s, t: bar.update(s), ran=ran)
+                workers.append(dict(worker=worker_name(0), trials=ran))
+                run_trials(cfg, settings, storage, name, remaining, 0, on_trial=lambda s, t: bar.update(s), ran=ran)
             elif remaining:
-                workers = _run_workers(cfg, settings, url, name, remaining, study, bar)
+                workers = run_workers(cfg, settings, url, name, remaining, study, bar)
     except KeyboardInterrupt:
         wall = time.perf_counter() - t0
         partial, finished = None, 0
         try:
             storage.remove_session()  # not the session Ctrl-C may have cut half-way through a transaction
-            _release_orphans(study, storage)  # a trial Ctrl-C cut while Optuna was recording it
-            finished = len(_complete(study))
+            release_orphans(study, storage)  # a trial Ctrl-C cut while Optuna was recording it
+            finished = len(complete_trials(study))
             partial = _result(cfg, study, settings, url, name, wall, workers)
         except RuntimeError:  # no trial finished yet
             pass
         except Exception as exc:  # the database is gone too: the study still holds what it held
-            if not _is_db_error(exc):
+            if not is_db_error(exc):
                 raise
         raise TuneInterrupted(partial, url, name, finished, settings.trials) from None
     wall = time.perf_counter() - t0
@@ -216,7 +166,7 @@ def screen(cfg: Config, settings: TuneSettings) -> dict:
     draws = [space.draw(seeding.np_random(s)[0]) for s in seeds]  # what env.reset(seed=s) draws
     values = [space.values(a) for a in actions]
     if cheap.sim.model == "reduced":
-        from aero_env.envs.aerial_acrobat_vector import reduced_batch
+        from aero_env.models.reduced.batch import reduced_batch
 
         # one batch of every (design, draw) episode, without a Config per design where the model reads every field
         paid = reduced_batch(cheap, [space.episode_values(v, d)[0] for v in values for d in draws])[1]
@@ -234,7 +184,7 @@ def screen(cfg: Config, settings: TuneSettings) -> dict:
 
 
 def _result(cfg, study, settings, url, name, wall, workers) -> TuneResult:
-    done = sorted(_complete(study), key=lambda t: t.number)
+    done = sorted(complete_trials(study), key=lambda t: t.number)
     if not done:
         raise RuntimeError(f"study {name!r} has no completed trial")
     best = max(done, key=lambda t: (t.value, -t.number))  # the first trial to reach the best value
@@ -263,7 +213,7 @@ class _Progress:
     def update(self, study) -> None:
         if self.bar is None:
             return
-        done = _complete(study)
+        done = complete_trials(study)
         self.bar.n = len(done)
         if done:
             self.bar.set_postfix_str(f"best {max(t.value for t in done):.3g}", refresh=False)

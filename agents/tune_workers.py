@@ -1,7 +1,7 @@
 """The processes that run a study's trials.
 
-:func:`_run_trials` runs trials in this process until its share is COMPLETE or the study is full;
-:func:`_run_workers` (the coordinator) starts ``workers`` spawned processes (:func:`_worker_main`) that
+:func:`run_trials` runs trials in this process until its share is COMPLETE or the study is full;
+:func:`run_workers` (the coordinator) starts ``workers`` spawned processes (:func:`_worker_main`) that
 split the remaining trials, starts a new worker for the share of one that dies, and stops them all
 on Ctrl-C or a failure. Each records its name in the trials it ran (``user_attrs["worker"]``);
 :func:`objective_for` scores a trial and prunes one that is surplus to the study's ``trials``.
@@ -19,19 +19,17 @@ import threading
 import time
 import warnings
 from collections import Counter
-from typing import TYPE_CHECKING, Callable
+from typing import Callable
 
 import numpy as np
 
 from aero_env.config import Config, from_dict
 
 from .design_eval import DesignEvaluator
-from .study_faults import StorageUnavailable, _is_db_error, _Reconnect
-from .study_storage import (_complete, _finished_elsewhere, _load_study, _optuna, _release_orphans,
-                            fail_dead_trials, make_sampler, open_storage)
-
-if TYPE_CHECKING:
-    from .tune import TuneSettings
+from .study_faults import Reconnect, StorageUnavailable, is_db_error
+from .study_storage import (complete_trials, fail_dead_trials, finished_elsewhere, import_optuna, load_study,
+                            make_sampler, open_storage, release_orphans)
+from .tune_settings import TuneSettings
 
 MAX_DEATHS = 8            # workers that may die in one run before the run stops (a design that kills them)
 POLL_S = 0.5              # a worker with nothing to start looks again this often
@@ -62,7 +60,7 @@ def objective_for(evaluator: DesignEvaluator, worker: str, target: int | None = 
 def _drop_surplus(trial, target: int | None) -> None:
     if target is None:
         return
-    optuna = _optuna()
+    optuna = import_optuna()
     S = optuna.trial.TrialState
     live = trial.study.get_trials(deepcopy=False, states=(S.COMPLETE, S.RUNNING, S.WAITING))
     if sum(t.number < trial.number for t in live) >= target:
@@ -70,11 +68,11 @@ def _drop_surplus(trial, target: int | None) -> None:
         raise optuna.TrialPruned(f"the study's {target} trials are taken by trials before this one")
 
 
-def _worker_name(index: int) -> str:
+def worker_name(index: int) -> str:
     return f"{socket.gethostname()}:{os.getpid()}:w{index}"
 
 
-def _run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: int, index: int,
+def run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: int, index: int,
                 on_trial: Callable | None = None, ran: list[int] | None = None) -> list[int]:
     """Run trials in this process until ``quota`` of them are COMPLETE or the study holds ``trials``
     COMPLETE trials; the numbers of its COMPLETE trials (appended to ``ran`` as they finish, so that a
@@ -83,15 +81,15 @@ def _run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: 
     and WAITING trials fall short of ``trials``, else waits (a running trial may yet die). A lost database
     is retried for ``settings.reconnect_s``, then :class:`StorageUnavailable`. A worker whose coordinator
     is gone stops after its trial."""
-    optuna = _optuna()
+    optuna = import_optuna()
     S = optuna.trial.TrialState
     evaluator = DesignEvaluator(cfg, settings.eval_seeds)
     # each worker its own sampler stream: two processes with one seed would propose the same designs
     sampler = make_sampler(settings.sampler, settings.seed + 7919 * index)
-    reconnect = _Reconnect(settings.reconnect_s, f"worker w{index} (pid {os.getpid()})",
+    reconnect = Reconnect(settings.reconnect_s, f"worker w{index} (pid {os.getpid()})",
                            settings.resolved_storage(), name, reset=getattr(storage, "remove_session", None))
-    study = reconnect(lambda: _load_study(cfg, settings, storage, name, sampler))
-    objective = objective_for(evaluator, _worker_name(index), settings.trials)
+    study = reconnect(lambda: load_study(cfg, settings, storage, name, sampler))
+    objective = objective_for(evaluator, worker_name(index), settings.trials)
     ran = [] if ran is None else ran
     parent = os.getppid() if mp.parent_process() is not None else None
 
@@ -102,7 +100,7 @@ def _run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: 
             on_trial(study_, trial)
 
     def step() -> bool:  # False: the study is full
-        _release_orphans(study, storage)
+        release_orphans(study, storage)
         fail_dead_trials(study)
         count = Counter(t.state for t in study.get_trials(deepcopy=False))
         if count[S.COMPLETE] >= settings.trials:
@@ -116,7 +114,7 @@ def _run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: 
         try:
             study.optimize(objective, n_trials=1, callbacks=[record])
         except Exception as exc:
-            if not _finished_elsewhere(exc):
+            if not finished_elsewhere(exc):
                 raise
             print(f"aero-env tune: worker w{index} (pid {os.getpid()}): its trial was failed by another process "
                   f"(its heartbeat was late); the design was queued again", file=sys.stderr, flush=True)
@@ -138,19 +136,19 @@ def _interrupt_once(signum, frame):
 
 
 def _worker_main(cfg_dict: dict, settings: TuneSettings, url: str, name: str, quota: int, index: int, queue) -> None:
-    signal.signal(signal.SIGINT, _interrupt_once)  # it started with Ctrl-C ignored (_run_workers)
+    signal.signal(signal.SIGINT, _interrupt_once)  # it started with Ctrl-C ignored (run_workers)
     ran: list[int] = []
     kind, err = "ok", None
     try:
-        reconnect = _Reconnect(settings.reconnect_s, f"worker w{index} (pid {os.getpid()})", url, name)
-        _run_trials(from_dict(cfg_dict), settings, reconnect(lambda: open_storage(url)), name, quota, index, ran=ran)
+        reconnect = Reconnect(settings.reconnect_s, f"worker w{index} (pid {os.getpid()})", url, name)
+        run_trials(from_dict(cfg_dict), settings, reconnect(lambda: open_storage(url)), name, quota, index, ran=ran)
     except KeyboardInterrupt:
         kind, err = "interrupt", "interrupted"
     except StorageUnavailable as exc:
         kind, err = "storage", exc.why
     except BaseException as exc:  # reported by the parent, which names the worker
         kind, err = "error", f"{type(exc).__name__}: {exc}"
-    queue.put((index, _worker_name(index), ran, kind, err))
+    queue.put((index, worker_name(index), ran, kind, err))
 
 
 # ---- the coordinator: worker processes ----
@@ -160,7 +158,7 @@ def _quiet_db(fn: Callable):
     try:
         return fn()
     except Exception as exc:
-        if not _is_db_error(exc):
+        if not is_db_error(exc):
             raise
         return None
 
@@ -209,7 +207,7 @@ def _stop_workers(procs: list) -> None:
         p.join()
 
 
-def _run_workers(cfg, settings, url, name, remaining, study, bar) -> list[dict]:
+def run_workers(cfg, settings, url, name, remaining, study, bar) -> list[dict]:
     """``settings.workers`` processes share the ``remaining`` trials. One that dies without a report (SIGKILL,
     OOM) has its RUNNING trial failed and queued again, and a new worker takes the rest of its share; on
     Ctrl-C, or when one reports an error, all are stopped and what they left RUNNING is failed."""
@@ -249,7 +247,7 @@ def _run_workers(cfg, settings, url, name, remaining, study, bar) -> list[dict]:
                     deaths += 1
                     worker = f"{socket.gethostname()}:{p.pid}:w{index}"
                     failed = _quiet_db(lambda: fail_dead_trials(study)) or []
-                    mine = _quiet_db(lambda: [t.number for t in _complete(study)
+                    mine = _quiet_db(lambda: [t.number for t in complete_trials(study)
                                               if t.user_attrs.get("worker") == worker]) or []
                     ended[index] = dict(worker=worker, trials=mine, kind="died", err=None)
                     left = quota - len(mine)

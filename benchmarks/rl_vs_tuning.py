@@ -63,7 +63,8 @@ def run_method(method: str, budget: int, k: int, holdout: int, seed: int, frames
         action = DesignEvaluator(cfg, (0,)).env.action_for()
         used, policy = 0, (lambda obs: action)
     elif method in ("cmaes", "random", "tpe"):
-        from agents.tune import TuneSettings, tune
+        from agents.tune import tune
+        from agents.tune_settings import TuneSettings
 
         r = tune(cfg, TuneSettings(sampler=method, trials=budget // k, seeds_per_design=k, seed=seed,
                                        progress=False))

@@ -205,10 +205,10 @@ def adversary(cfg: Config, trials: int, seed: int) -> list:
     """CMA-ES on the env's reward, as aero-env tune runs it (one episode seed: the scene draws nothing
     or every trial sees seed 0's draw); the study's trials."""
     from agents.design_eval import DesignEvaluator
-    from agents.study_storage import _optuna, make_sampler
+    from agents.study_storage import import_optuna, make_sampler
     from agents.tune_workers import objective_for
 
-    optuna = _optuna()
+    optuna = import_optuna()
     evaluator = DesignEvaluator(cfg, (0,))
     study = optuna.create_study(direction="maximize", sampler=make_sampler("cmaes", seed))
     study.optimize(objective_for(evaluator, "adversary"), n_trials=trials)

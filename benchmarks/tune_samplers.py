@@ -19,7 +19,8 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from aero_env.config import load_config
-from agents.tune import TuneSettings, tune
+from agents.tune import tune
+from agents.tune_settings import TuneSettings
 
 
 def one_study(config: str, sampler: str, seed: int, trials: int) -> dict:

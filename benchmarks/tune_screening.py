@@ -22,7 +22,8 @@ from pathlib import Path
 
 from aero_env.config import load_config
 from aero_env.models.reduced import compile_kernels
-from agents.tune import TuneSettings, tune
+from agents.tune import tune
+from agents.tune_settings import TuneSettings
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -280,6 +280,7 @@ def test_bench_throughput_times_every_fidelity_the_vector_env_and_two_workers(ca
     # every way of stepping ran the seeded designs and scored them as env.step does
     mine = [i["traversals"] for i in _env_runs({"scene.frames": 2}, 4)]
     assert rep["workers"][0]["mean_reward"] == rep["workers"][1]["mean_reward"] == pytest.approx(np.mean(mine))
+    assert rep["reduced_fallbacks"] == 0  # every reduced batch went in as arrays
     assert rows["mbd", "single env"]["mean_reward"] == pytest.approx(np.mean(mine))
     assert 0 < np.mean(mine) < 1, mine  # a mean that tells designs apart (the second design traverses)
 

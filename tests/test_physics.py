@@ -76,7 +76,7 @@ def carried_in_trace(result, frame: int) -> bool:
 
 def test_carried_is_the_robots_lowest_point_as_the_calibration_names_it():
     from aero_env.calibration.swing_metrics import LOWEST_THETA1_DEG
-    from aero_env.results import CARRIED_THETA1_DEG
+    from aero_env.physics.swing_rules import CARRIED_THETA1_DEG
 
     assert CARRIED_THETA1_DEG == LOWEST_THETA1_DEG == 90.0  # the handrail straight below the axis
 

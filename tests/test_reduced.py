@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from aero_env import results as say
+from aero_env import reasons as say
 from aero_env.config import ConfigError, load_config
 from aero_env.models import reduced, two_link
 from aero_env.models.reduced.layout import P

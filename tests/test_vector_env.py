@@ -177,7 +177,7 @@ def test_each_episode_runs_and_is_scored_at_its_own_drawn_pitch(path):
 
 def test_reduced_batch_takes_the_config_path_for_mixed_or_no_fields_and_words_errors_as_with_values():
     from aero_env.config import Config
-    from aero_env.envs.aerial_acrobat_vector import reduced_batch
+    from aero_env.models.reduced.batch import reduced_batch
     from aero_env.models.reduced import simulate_batch, simulate_designs
 
     base = Config().replace({"scene.frames": 2})

@@ -18,6 +18,8 @@ seed ``seed + i`` and one step, and reports the median over ``repeats`` of its w
 * ``workers``: ``gymnasium.vector`` environments over the single env at the config's fidelity:
   ``SyncVectorEnv`` with one environment, and ``AsyncVectorEnv`` with one process per extra worker
   (``autoreset_mode=SAME_STEP``, so every step is a fresh episode), and the speed-up over one.
+* ``reduced_fallbacks``: the reduced batches that fell back from arrays to configs
+  (:data:`aero_env.models.reduced.batch.FALLBACKS`): 0, or the reduced rows timed the slow path.
 
 Workers share the machine's cores: on two cores two workers can at best double the rate.
 """
@@ -37,7 +39,7 @@ from ..config import FIDELITY_PRESETS, Config
 from ..design_space import DesignSpace
 from ..envs import AerialAcrobatEnv, AerialAcrobatVectorEnv
 from ..envs.aerial_acrobat import plan_episode
-from ..envs.aerial_acrobat_vector import reduced_batch
+from ..models.reduced.batch import FALLBACKS, reduced_batch
 from .designs import check_counts, median_time
 
 BASELINE = "mbd"  # vs_mbd: the default fidelity, the one a user of the env gets
@@ -186,9 +188,11 @@ def throughput(cfg: Config, episodes: int = 40, repeats: int = 3, seed: int = 0,
     if pool_workers is not None:
         check_counts(pool_workers=pool_workers)
     designs = np.random.default_rng(seed).uniform(-1, 1, (max(episodes, batch), len(cfg.tunable))).astype(np.float32)
+    before = FALLBACKS.count
     return dict(fidelity=cfg.sim.fidelity, repeats=repeats, seed=seed, episodes=episodes, batch=batch,
                 fidelities=fidelity_rows(cfg, designs, episodes, batch, repeats, seed, pool_workers),
-                workers=worker_rows(cfg, designs, episodes, repeats, seed, workers))
+                workers=worker_rows(cfg, designs, episodes, repeats, seed, workers),
+                reduced_fallbacks=FALLBACKS.count - before)
 
 
 def _ratio(x) -> str:
@@ -208,4 +212,7 @@ def table(report: dict) -> str:
     for r in report["workers"]:
         lines.append(f"{r['workers']:>7} {r['episodes']:>8} {r['wall']:8.2f} {r['episodes_per_second']:10.1f} "
                      f"{r['speedup_vs_1']:7.2f}x")
+    if report.get("reduced_fallbacks"):
+        lines += ["", f"reduced: {report['reduced_fallbacks']} batches fell back from arrays to configs: the reduced "
+                      f"rows timed the slow path"]
     return "\n".join(lines)

@@ -27,7 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..results import CARRIED_THETA1_DEG, SimResult, Swing
+from ..physics.swing_rules import CARRIED_THETA1_DEG
+from ..results import SimResult, Swing
 
 # the handrail is straight below the axis here: the robot is at its lowest (the angle through which a frame
 # must carry the robot for its catch to count, one definition for both)

@@ -13,7 +13,8 @@ import numpy as np
 
 from ..config import Config
 from ..models import quasi_static
-from .three_models import FALLBACK_ANGLE_DEG, analytical, mbd_swing
+from .mbd import FALLBACK_ANGLE_DEG, mbd_swing
+from .three_models import analytical
 
 MAP_MASSES = (0.004, 0.06, 7)  # robot mass m2 for the domain map: kg, low, high, count (log-spaced)
 MAP_RATIOS = (0.6, 0.95, 8)  # moment ratio (m3·La)/(m2·Lb) for the map: low, high, count

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..calibration.swing_metrics import LOWEST_THETA1_DEG, rising_crossing, theta1_dip
 from ..models.two_link import SwingResult
-from .three_models import MbdSwing
+from .mbd import MbdSwing
 
 AFTER_CATCH_DEG = 5.0  # theta1'' is read past the catch's own transient (the frame leaving its stopper)
 

@@ -36,21 +36,22 @@ the allowed range.
 
 The modules, each importing only those above it:
 
-* ``validation``: :class:`ConfigError` and the check of one value against its declaration.
-* ``sections``: the ``design``, ``scene``, ``sim`` and ``env`` declarations and fidelity presets.
+* ``validation``: :class:`ConfigError` and the check of one value (or an array of them) against its declaration.
+* ``sections``: the ``design``, ``scene``, ``sim`` and ``env`` declarations, fidelity presets and the design's
+  cross-checks (``check_design``, on one design or on arrays of them).
 * ``design_problem``: the ``tunable``, ``context`` and ``tolerance`` entries and their checks.
 * ``loading``: :class:`Config`, ``from_dict``, ``load_config``, overrides and the schema table.
 """
 
 from .design_problem import DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, ContextRange, Tolerance, Tunable
 from .loading import Config, from_dict, load_config, parse_override, read_yaml, schema_rows
-from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, Effects, EnvOptions, Scene, Sim, real_field,
-                       real_keys, spec)
-from .validation import ConfigError, did_you_mean
+from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, Effects, EnvOptions, Scene, Sim, check_design,
+                       real_field, real_keys, spec)
+from .validation import ConfigError, check_value, check_values, did_you_mean
 
 __all__ = [
     "Config", "ConfigError", "ContextRange", "DEFAULT_CONTEXT", "DEFAULT_FIDELITY", "DEFAULT_TUNABLES", "Design",
     "Effects", "EnvOptions", "FIDELITY_PRESETS", "LIST_SECTIONS", "SECTIONS", "Scene", "Sim", "Tolerance", "Tunable",
-    "did_you_mean", "from_dict", "load_config", "parse_override", "read_yaml", "real_field", "real_keys",
+    "check_design", "check_value", "check_values", "did_you_mean", "from_dict", "load_config", "parse_override", "read_yaml", "real_field", "real_keys",
     "schema_rows", "spec",
 ]

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field, fields
 from typing import Any, Mapping
 
 from .sections import real_field
-from .validation import ConfigError, _check_value, _unknown_key, _with_unit
+from .validation import ConfigError, check_value, unknown_key, with_unit
 
 
 def _item(doc: str, unit: str = "-", default: Any = None):
@@ -72,7 +72,7 @@ DEFAULT_CONTEXT = (ContextRange("scene.rise"), ContextRange("scene.pitch"), Cont
 LIST_SECTIONS = {"tunable": Tunable, "context": ContextRange, "tolerance": Tolerance}
 
 
-def _build_list(section: str, data: Any) -> tuple:
+def build_list(section: str, data: Any) -> tuple:
     """Validate one list section (tunable, context or tolerance) entry by entry."""
     cls = LIST_SECTIONS[section]
     if not isinstance(data, (list, tuple)):
@@ -86,7 +86,7 @@ def _build_list(section: str, data: Any) -> tuple:
         allowed = {f.name for f in fields(cls)}
         extra = sorted(map(str, set(entry) - allowed))
         if extra:
-            raise _unknown_key(f"{where}.{extra[0]}", extra[0], allowed)
+            raise unknown_key(f"{where}.{extra[0]}", extra[0], allowed)
         if "name" not in entry:
             raise ConfigError(f"{where}.name: missing; the dotted key of the field, e.g. design.m3")
         f = real_field(entry["name"], f"{where}.name")
@@ -100,7 +100,7 @@ def _build_list(section: str, data: Any) -> tuple:
 
 def _bound(entry: Mapping, key: str, where: str, name: str, f: dataclasses.Field) -> float:
     """``entry[key]`` checked against the range of the field it sets."""
-    return _check_value(f"{where}.{key} (a value of {name})", f, entry[key])
+    return check_value(f"{where}.{key} (a value of {name})", f, entry[key])
 
 
 def _tunable(entry, where, name, f) -> Tunable:
@@ -159,7 +159,7 @@ def _tolerance(entry, where, name, f) -> Tolerance:
     out = {}
     unit = f.metadata["unit"]
     for key, hi, u in (("relative", 0.5, "-"), ("absolute", math.inf, unit)):
-        v, _ = _with_unit(f"{where}.{key} (a tolerance of {name})", entry.get(key, 0.0), u)
+        v, _ = with_unit(f"{where}.{key} (a tolerance of {name})", entry.get(key, 0.0), u)
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0.0 <= v <= hi) or not math.isfinite(v):
             in_unit = f" {u}" if u != "-" else ""
             raise ConfigError(f"{where}.{key} = {v!r}: must be a finite number in [0, {hi}]{in_unit}")

@@ -13,10 +13,10 @@ from typing import Any, Mapping
 import yaml
 
 from .design_problem import (DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, ContextRange, Tolerance, Tunable,
-                             _build_list)
-from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, EnvOptions, Scene, Sim, _check_design,
-                       _check_sim, real_field)
-from .validation import ConfigError, _build, _check_value, _range_text, did_you_mean
+                             build_list)
+from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, EnvOptions, Scene, Sim, check_design,
+                       check_sim, real_field)
+from .validation import ConfigError, build_section, check_value, did_you_mean, range_text
 
 
 @dataclass(frozen=True)
@@ -45,7 +45,7 @@ class Config:
         low, high = t.low * base, t.high * base
         f = real_field(t.name, f"tunable[{i}].name")
         for key, v in (("low", low), ("high", high)):
-            _check_value(f"tunable[{i}].{key} ({getattr(t, key):g} x {t.relative_to} = {v:.6g}, a value of {t.name})",
+            check_value(f"tunable[{i}].{key} ({getattr(t, key):g} x {t.relative_to} = {v:.6g}, a value of {t.name})",
                          f, v)
         return low, high
 
@@ -80,10 +80,10 @@ class Config:
         for key, v in values.items():
             f = real_field(key, "key")
             sec, name = key.split(".", 1)
-            changes[sec][name] = _check_value(key, f, v)
+            changes[sec][name] = check_value(key, f, v)
         cfg = dataclasses.replace(self, design=dataclasses.replace(self.design, **changes["design"]),
                                   scene=dataclasses.replace(self.scene, **changes["scene"]))
-        _check_design(cfg.design)
+        check_design(cfg.design)
         return cfg
 
     def replace(self, overrides: Mapping[str, Any]) -> "Config":
@@ -130,11 +130,11 @@ def from_dict(data: Mapping[str, Any] | None, overrides: Mapping[str, Any] | Non
         hint = did_you_mean(unknown[0], SECTIONS | LIST_SECTIONS)
         raise ConfigError(f"{unknown[0]}: unknown section{hint}; allowed sections are "
                           f"{sorted(SECTIONS | LIST_SECTIONS)}")
-    sections = {name: _build(cls, tree.get(name), name) for name, cls in SECTIONS.items()}
-    lists = {name: _build_list(name, tree[name]) for name in LIST_SECTIONS if name in tree}
+    sections = {name: build_section(cls, tree.get(name), name) for name, cls in SECTIONS.items()}
+    lists = {name: build_list(name, tree[name]) for name in LIST_SECTIONS if name in tree}
     cfg = Config(**sections, **lists)
-    _check_design(cfg.design)
-    _check_sim(cfg.sim)
+    check_design(cfg.design)
+    check_sim(cfg.sim)
     _check_design_problem(cfg)
     return cfg
 
@@ -151,7 +151,7 @@ def _apply_fidelity(tree: dict, overrides: Mapping[str, Any]) -> None:
     if sim is None:
         sim = tree["sim"] = {}
     if not isinstance(sim, dict):
-        return  # _build names the problem
+        return  # build_section names the problem
     name = sim.get("fidelity", DEFAULT_FIDELITY)
     if not isinstance(name, str) or name not in FIDELITY_PRESETS:
         raise ConfigError(f"sim.fidelity = {name!r}: must be one of {list(FIDELITY_PRESETS)} (cheapest first)")
@@ -256,7 +256,7 @@ def schema_rows() -> list[tuple[str, str, str, str, str]]:
                 continue
             m = f.metadata
             allowed = ("one of " + ", ".join(m["choices"])) if m["choices"] else (
-                "true/false" if f.type in (bool, "bool") else _range_text(m))
+                "true/false" if f.type in (bool, "bool") else range_text(m))
             rows.append((f"{prefix}.{f.name}", repr(f.default), m["unit"], allowed, m["doc"]))
 
     for name, cls in SECTIONS.items():

@@ -13,6 +13,8 @@ from dataclasses import dataclass, field, fields
 from types import MappingProxyType
 from typing import Any, Mapping
 
+import numpy as np
+
 from ..inertia import min_Ld, torso_build
 from ..units import GRAVITY
 from .validation import ConfigError, did_you_mean
@@ -206,38 +208,65 @@ class EnvOptions:
 SECTIONS = {"design": Design, "scene": Scene, "sim": Sim, "env": EnvOptions}
 
 
-def _check_design(d: Design) -> None:
-    if d.mu_k > d.mu_s:
-        raise ConfigError(f"design.mu_k = {d.mu_k!r}: must not exceed design.mu_s = {d.mu_s!r} "
-                          f"(kinetic friction is at most static), allowed [0, {d.mu_s}]")
-    if not d.alpha_min_deg < d.alpha_max_deg:
-        raise ConfigError(f"design.alpha_max_deg = {d.alpha_max_deg!r}: must exceed design.alpha_min_deg = "
-                          f"{d.alpha_min_deg!r}, allowed ({d.alpha_min_deg}, 180]")
-    if not 10.0 <= d.stop_angle_deg - d.rest_angle_deg <= 270.0:
-        raise ConfigError(f"design.stop_angle_deg = {d.stop_angle_deg!r}: the frame must be able to turn from "
-                          f"design.rest_angle_deg = {d.rest_angle_deg!r} by 10 to 270 deg, allowed "
-                          f"[{d.rest_angle_deg + 10}, {d.rest_angle_deg + 270}]")
-    x_max = max(d.La, d.Lb)
-    if abs(d.dT) > d.m1 * GRAVITY * x_max:
-        lim = d.m1 * GRAVITY * x_max
-        raise ConfigError(f"design.dT = {d.dT!r}: the frame's own moment would put its centre of mass beyond its "
-                          f"ends, allowed [{-lim:.3g}, {lim:.3g}] N·m (m1·g·max(La, Lb) with design.m1 = {d.m1!r}, "
-                          f"design.La = {d.La!r}, design.Lb = {d.Lb!r})")
-    ld_min = float(min_Ld(d.arm_length, d.alpha_max_deg, d.coin_radius))
-    if d.Ld < ld_min:
-        hi = Design.__dataclass_fields__["Ld"].metadata["hi"]
-        raise ConfigError(f"design.Ld = {d.Ld!r}: the torso below the axle must hold the coins (2 x "
-                          f"design.coin_radius = {d.coin_radius!r}) with design.arm_length = {d.arm_length!r} at "
-                          f"design.alpha_max_deg = {d.alpha_max_deg!r}, allowed [{ld_min:.4g}, {hi}] m")
-    parts = d.arm_mass + d.coin_mass + d.handrail_mass
-    if parts >= d.m2:
-        hi = Design.__dataclass_fields__["m2"].metadata["hi"]
-        raise ConfigError(f"design.m2 = {d.m2!r}: must exceed its listed parts design.arm_mass = {d.arm_mass!r} + "
-                          f"design.coin_mass = {d.coin_mass!r} + design.handrail_mass = {d.handrail_mass!r} = "
-                          f"{parts:.6g} kg (the torso card is the rest), allowed ({parts:.6g}, {hi:g}] kg")
+# The design's cross-checks, one field against others, each (broken, refusal): ``broken(d)`` is True where the
+# rule is broken, on numbers and elementwise on arrays; ``refusal(d, at)`` is one design's one-line message naming
+# the field, its value and the range the other fields allow it, ``at`` the index after the key ("" or "[i]").
+_DESIGN_RULES = (
+    (lambda d: d.mu_k > d.mu_s,
+     lambda d, at: f"design.mu_k{at} = {d.mu_k!r}: must not exceed design.mu_s = {d.mu_s!r} "
+                   f"(kinetic friction is at most static), allowed [0, {d.mu_s}]"),
+    (lambda d: d.alpha_max_deg <= d.alpha_min_deg,
+     lambda d, at: f"design.alpha_max_deg{at} = {d.alpha_max_deg!r}: must exceed design.alpha_min_deg = "
+                   f"{d.alpha_min_deg!r}, allowed ({d.alpha_min_deg}, 180]"),
+    (lambda d: (d.stop_angle_deg - d.rest_angle_deg < 10.0) | (d.stop_angle_deg - d.rest_angle_deg > 270.0),
+     lambda d, at: f"design.stop_angle_deg{at} = {d.stop_angle_deg!r}: the frame must be able to turn from "
+                   f"design.rest_angle_deg = {d.rest_angle_deg!r} by 10 to 270 deg, allowed "
+                   f"[{d.rest_angle_deg + 10}, {d.rest_angle_deg + 270}]"),
+    (lambda d: np.abs(d.dT) > d.m1 * GRAVITY * np.maximum(d.La, d.Lb),
+     lambda d, at: f"design.dT{at} = {d.dT!r}: the frame's own moment would put its centre of mass beyond its "
+                   f"ends, allowed [{-d.m1 * GRAVITY * max(d.La, d.Lb):.3g}, {d.m1 * GRAVITY * max(d.La, d.Lb):.3g}] "
+                   f"N·m (m1·g·max(La, Lb) with design.m1 = {d.m1!r}, design.La = {d.La!r}, design.Lb = {d.Lb!r})"),
+    (lambda d: d.Ld < min_Ld(d.arm_length, d.alpha_max_deg, d.coin_radius),
+     lambda d, at: f"design.Ld{at} = {d.Ld!r}: the torso below the axle must hold the coins (2 x "
+                   f"design.coin_radius = {d.coin_radius!r}) with design.arm_length = {d.arm_length!r} at "
+                   f"design.alpha_max_deg = {d.alpha_max_deg!r}, allowed "
+                   f"[{float(min_Ld(d.arm_length, d.alpha_max_deg, d.coin_radius)):.4g}, "
+                   f"{Design.__dataclass_fields__['Ld'].metadata['hi']}] m"),
+    (lambda d: d.arm_mass + d.coin_mass + d.handrail_mass >= d.m2,
+     lambda d, at: f"design.m2{at} = {d.m2!r}: must exceed its listed parts design.arm_mass = {d.arm_mass!r} + "
+                   f"design.coin_mass = {d.coin_mass!r} + design.handrail_mass = {d.handrail_mass!r} = "
+                   f"{d.arm_mass + d.coin_mass + d.handrail_mass:.6g} kg (the torso card is the rest), allowed "
+                   f"({d.arm_mass + d.coin_mass + d.handrail_mass:.6g}, "
+                   f"{Design.__dataclass_fields__['m2'].metadata['hi']:g}] kg"),
+)
 
 
-def _check_sim(s: Sim) -> None:
+class _Entry:
+    """Design ``i`` of designs given as arrays: each field a float."""
+
+    def __init__(self, designs, i: int):
+        self._designs, self._i = designs, i
+
+    def __getattr__(self, name: str) -> float:
+        return float(getattr(self._designs, name)[self._i])
+
+
+def check_design(d) -> None:
+    """The design's cross-checks (one field against others). ``d``: a :class:`Design`, or any object with the
+    design's fields as attributes holding 1-D arrays of one length, one design per entry (the reduced model's fast
+    path). A broken rule raises one line naming the field, its value and the range the others allow it; of arrays,
+    the first design that breaks it, its index after the key (``design.mu_k[3] = 0.5: must not exceed ...``)."""
+    for broken, refusal in _DESIGN_RULES:
+        bad = broken(d)
+        if np.ndim(bad) == 0:
+            if bad:
+                raise ConfigError(refusal(d, ""))
+        elif np.any(bad):
+            i = int(np.flatnonzero(bad)[0])
+            raise ConfigError(refusal(_Entry(d, i), f"[{i}]"))
+
+
+def check_sim(s: Sim) -> None:
     step = s.dt * s.substeps  # the pymunk runner samples contact once per runner step (reduced finds events exactly)
     if s.model == "mbd" and s.contact_hold < 5 * step:
         raise ConfigError(f"sim.contact_hold = {s.contact_hold!r}: must span at least 5 runner steps of sim.dt = "

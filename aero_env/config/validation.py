@@ -1,7 +1,8 @@
 """Checking one config value against its declaration, and the error messages that name it.
 
-:class:`ConfigError` is what every bad config raises; ``_check_value`` reads a value (with or
-without its unit) and checks its type and range; ``_build`` checks a mapping into a section.
+:class:`ConfigError` is what every bad config raises; ``check_value`` reads a value (with or
+without its unit) and checks its type and range, ``check_values`` an array of numbers the same way (the
+reduced model's fast path); ``build_section`` checks a mapping into a section.
 """
 
 from __future__ import annotations
@@ -11,6 +12,8 @@ import difflib
 import math
 from dataclasses import fields
 from typing import Any, Mapping
+
+import numpy as np
 
 from .. import quantities
 
@@ -22,7 +25,9 @@ class ConfigError(ValueError):
 ConfigError.__module__ = "aero_env.config"  # tracebacks (and the docs quoting them) name it where it is imported from
 
 
-def _check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
+def check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
+    """``value`` (a number, or a string with its unit) read and checked against the field ``f`` declares; a bad one
+    raises one line naming ``path``, the value and the allowed range."""
     meta = f.metadata
     typ = f.type if isinstance(f.type, type) else {"float": float, "int": int, "bool": bool, "str": str}.get(f.type)
     if typ is bool:
@@ -34,36 +39,50 @@ def _check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
             raise ConfigError(f"{path} = {value!r}: must be one of {list(meta['choices'])}")
         return value
     raw = value
-    value, plain = _with_unit(path, value, meta["unit"])
+    value, plain = with_unit(path, value, meta["unit"])
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         units = quantities.units_for(meta["unit"])
         with_units = f", optionally with a unit ({', '.join(units)})" if len(units) > 1 else ""
-        raise ConfigError(f"{path} = {value!r}: must be a number ({typ.__name__}) in {_range_text(meta)}{with_units}")
+        raise ConfigError(f"{path} = {value!r}: must be a number ({typ.__name__}) in {range_text(meta)}{with_units}")
     shown = repr(value) if plain else f"{raw!r} (= {value:.6g} {meta['unit']})"
     if typ is int:
         if isinstance(value, float) and not value.is_integer():
-            raise ConfigError(f"{path} = {shown}: must be a whole number in {_range_text(meta)}")
+            raise ConfigError(f"{path} = {shown}: must be a whole number in {range_text(meta)}")
         value = int(value)
     else:
         value = float(value)
     if plain:
         shown = repr(value)
     if not math.isfinite(value):
-        raise ConfigError(f"{path} = {shown}: must be finite, in {_range_text(meta)}")
-    if not _in_range(meta, value):
-        hint = quantities.smaller_unit_hint(value, meta["unit"], lambda v: _in_range(meta, v)) if plain else ""
-        raise ConfigError(f"{path} = {shown}: out of range, allowed {_range_text(meta)}{hint}")
+        raise ConfigError(f"{path} = {shown}: must be finite, in {range_text(meta)}")
+    if not in_range(meta, value):
+        hint = quantities.smaller_unit_hint(value, meta["unit"], lambda v: in_range(meta, v)) if plain else ""
+        raise ConfigError(f"{path} = {shown}: out of range, allowed {range_text(meta)}{hint}")
     return value
 
 
-def _in_range(meta: Mapping[str, Any], value: float) -> bool:
+def in_range(meta: Mapping[str, Any], value):
+    """Whether ``value`` lies in the range ``meta`` declares: a bool for a number, elementwise for an array."""
     lo, hi = meta["lo"], meta["hi"]
-    if lo is not None and (value < lo or (meta["lo_open"] and value == lo)):
-        return False
-    return hi is None or value <= hi
+    ok = np.ones(np.shape(value), dtype=bool)
+    if lo is not None:
+        ok &= (value > lo) if meta["lo_open"] else (value >= lo)
+    if hi is not None:
+        ok &= value <= hi
+    return ok if ok.ndim else bool(ok)
 
 
-def _with_unit(path: str, value: Any, unit: str) -> tuple[Any, bool]:
+def check_values(path: str, f: dataclasses.Field, values: np.ndarray) -> None:
+    """:func:`check_value` of every entry of a 1-D array of numbers, vectorised: the first bad entry is refused
+    as ``check_value`` refuses it, its index after the key (``design.m3[1] = -1.0: out of range, allowed ...``)."""
+    bad = ~(np.isfinite(values) & in_range(f.metadata, values))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        check_value(f"{path}[{i}]", f, float(values[i]))
+        raise AssertionError(f"{path}[{i}] = {values[i]!r}: refused by in_range, accepted by check_value")
+
+
+def with_unit(path: str, value: Any, unit: str) -> tuple[Any, bool]:
     """``value`` as a number in ``unit`` when it is a string that spells one (``"7.71 g"``, or ``"1e-9"``,
     which YAML 1.1 reads as a string), and whether it was a plain number (no unit named)."""
     if not isinstance(value, str):
@@ -81,7 +100,7 @@ def _with_unit(path: str, value: Any, unit: str) -> tuple[Any, bool]:
         return number, False
 
 
-def _range_text(meta: Mapping[str, Any]) -> str:
+def range_text(meta: Mapping[str, Any]) -> str:
     lo, hi, unit = meta["lo"], meta["hi"], meta["unit"]
     left = "(" if meta["lo_open"] else "["
     u = f" {unit}" if unit and unit != "-" else ""
@@ -100,7 +119,7 @@ def did_you_mean(name: Any, candidates, prefix: str = "") -> str:
     return f"; did you mean {prefix}{by_lower[close[0]]}?" if close else ""
 
 
-def _unknown_key(where: str, name: Any, known, prefix: str = "") -> ConfigError:
+def unknown_key(where: str, name: Any, known, prefix: str = "") -> ConfigError:
     """An unknown key: the closest known one, else the keys themselves when few, else where to find them."""
     known = sorted(map(str, known))
     hint = did_you_mean(name, known, prefix)
@@ -110,7 +129,7 @@ def _unknown_key(where: str, name: Any, known, prefix: str = "") -> ConfigError:
     return ConfigError(f"{where}: unknown key{hint}")
 
 
-def _build(cls, data: Any, path: str):
+def build_section(cls, data: Any, path: str):
     if data is None:
         data = {}
     if not isinstance(data, Mapping):
@@ -122,14 +141,14 @@ def _build(cls, data: Any, path: str):
         if name in derived:
             raise ConfigError(f"{path}.{name}: derived, not set: {derived[name]}")
     if unknown:
-        raise _unknown_key(f"{path}.{unknown[0]}", unknown[0], known, f"{path}.")
+        raise unknown_key(f"{path}.{unknown[0]}", unknown[0], known, f"{path}.")
     kwargs = {}
     for name, f in known.items():
         if name not in data:
             continue
         sub = f.default_factory if f.default_factory is not dataclasses.MISSING else None
         if sub is not None and dataclasses.is_dataclass(sub):
-            kwargs[name] = _build(sub, data[name], f"{path}.{name}")
+            kwargs[name] = build_section(sub, data[name], f"{path}.{name}")
         else:
-            kwargs[name] = _check_value(f"{path}.{name}", f, data[name])
+            kwargs[name] = check_value(f"{path}.{name}", f, data[name])
     return cls(**kwargs)

@@ -6,7 +6,7 @@ import os
 from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any, Mapping
 
 import gymnasium as gym
 import numpy as np
@@ -17,38 +17,17 @@ from gymnasium.vector.utils import batch_space
 
 from ..config import Config, ConfigError, load_config
 from ..design_space import DesignSpace, Draw
-from ..reward import batch_reward, designs_reward, reward
+from ..reward import reward
 from ..simulation import simulate
 from .aerial_acrobat import Episode, episode_info, plan_episode, reset_info
 from .vector_info import batch_runs, stack_infos
 
-__all__ = ["AerialAcrobatVectorEnv", "MAX_NUM_ENVS", "POOL_START_METHOD", "reduced_batch"]
+__all__ = ["AerialAcrobatVectorEnv", "MAX_NUM_ENVS", "POOL_START_METHOD"]
 
 MAX_NUM_ENVS = 1_000_000  # designs per step; past this one step's configs alone would fill the memory
 # spawn, as AsyncVectorEnv and SB3's SubprocVecEnv are started here: a forked child would inherit the
 # parent's threads (torch's, a numba kernel's) mid-state
 POOL_START_METHOD = "spawn"
-
-
-def reduced_batch(base: Config, episodes: Sequence[Mapping[str, float]]):
-    """One call of the reduced model for episodes given as the fields each sets on ``base``
-    (:meth:`DesignSpace.episode_values`), and their rewards. Where every episode sets the same fields and the model
-    reads all of them, the values go in as arrays (no Config per design; the same runs); otherwise, and to word
-    a bad value as ``Config.with_values`` does (the key, the value with its unit, the range), as the configs they
-    build."""
-    from ..models.reduced import READ_KEYS, simulate_batch, simulate_designs
-
-    if not episodes:
-        raise ConfigError("reduced_batch: no episodes; pass at least one dict of the fields an episode sets")
-    if set(episodes[0]) <= READ_KEYS:
-        try:  # simulate_designs refuses episodes that set different fields: they take the configs too
-            batch = simulate_designs(base, episodes)
-            return batch, designs_reward(batch, base, episodes).astype(np.float64)
-        except (ConfigError, TypeError, ValueError):
-            pass  # the configs below raise a refusal in with_values' words, or run what the arrays could not
-    cfgs = [base.with_values(e) for e in episodes]
-    batch = simulate_batch(cfgs)
-    return batch, batch_reward(batch, cfgs).astype(np.float64)
 
 
 class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
@@ -57,7 +36,7 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
 
     ``num_envs`` copies of :class:`~aero_env.envs.AerialAcrobatEnv` stepped together: one ``step``
     runs one design per sub-env. At ``sim.fidelity: reduced`` the designs run in one call of the
-    reduced model (:func:`reduced_batch`: the fields each episode sets go in as arrays, with no
+    reduced model (:func:`aero_env.models.reduced.batch.reduced_batch`: the fields each episode sets go in as arrays, with no
     Config built per design); at a pymunk fidelity (mbd-fast,
     mbd, mbd-fine, reference) a persistent pool of ``workers`` processes runs one design each, and
     the results are gathered in sub-env order. Each run is a function of its config alone, so the
@@ -188,6 +167,8 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
     def step(self, actions):
         episodes = self._plan(actions)
         if self.reduced:
+            from ..models.reduced.batch import reduced_batch  # numba's import waits for the first reduced step
+
             batch, rewards = reduced_batch(self.config, [e.values for e in episodes])
             runs = batch_runs(batch, self.config.sim.fidelity)
         else:

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..config import Design
 from ..inertia import counterbalance_inertia, frame_inertia, robot_inertia
-from .two_link import G, SwingResult, _integrate, coefficients
+from .two_link import G, SwingResult, coefficients, integrate
 
 
 def moment(d: Design, theta1) -> np.ndarray:
@@ -61,4 +61,4 @@ def simulate(d: Design, theta1_0: float, omega1_0: float = 0.0, t_end: float = 2
     def rhs(_t, y):
         return np.array([y[1], (moment(d, y[0]) - frame_drag * y[1] * abs(y[1])) / inertia_value])
 
-    return _integrate(rhs, np.array([theta1_0, omega1_0]), t_end, until_theta1, rtol, atol, one_link=True)
+    return integrate(rhs, np.array([theta1_0, omega1_0]), t_end, until_theta1, rtol, atol, one_link=True)

@@ -180,10 +180,10 @@ def simulate(d: Design, theta1_0: float, theta2_0: float, omega1_0: float = 0.0,
         a1, a2 = accelerations(c, y[0], y[1], y[2], y[3], tau1, tau2)
         return np.array([y[2], y[3], a1, a2])
 
-    return _integrate(rhs, np.array([theta1_0, theta2_0, omega1_0, omega2_0]), t_end, until_theta1, rtol, atol)
+    return integrate(rhs, np.array([theta1_0, theta2_0, omega1_0, omega2_0]), t_end, until_theta1, rtol, atol)
 
 
-def _integrate(rhs, y0, t_end, until_theta1, rtol, atol, one_link: bool = False) -> SwingResult:
+def integrate(rhs, y0, t_end, until_theta1, rtol, atol, one_link: bool = False) -> SwingResult:
     events = None
     if until_theta1 is not None:
         def reach(_t, y):

@@ -35,7 +35,8 @@ import pymunk
 
 from .. import units
 from ..config import Config
-from ..results import STOP_TOLERANCE, Swing
+from ..results import Swing
+from .swing_rules import STOP_TOLERANCE
 from .phases import Hanging, Run
 from .world import World
 

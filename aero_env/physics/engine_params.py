@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from .. import units
 from ..config import Config
 from ..inertia import RobotParts, frame_inertia, spring_damping_coefficient
-from ..results import held_past_angle
+from .swing_rules import held_past_angle
 
 
 @dataclass(frozen=True)

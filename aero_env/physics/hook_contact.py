@@ -28,7 +28,7 @@ from math import cos, hypot, sin
 
 import pymunk
 
-from ..results import FRICTION_HELD
+from ..reasons import FRICTION_HELD
 from .swing_frame import HANDRAIL, HOOK
 
 

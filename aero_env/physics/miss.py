@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from .. import results as say
+from .. import reasons as say
 from .. import units
 
 

@@ -27,9 +27,10 @@ from __future__ import annotations
 
 import math
 
-from .. import results as say
+from .. import reasons as say
 from .. import units
-from ..results import CARRIED_THETA1_DEG, REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG, Swing
+from ..results import Swing
+from .swing_rules import CARRIED_THETA1_DEG, REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG
 from .miss import FlightRecord, classify_miss
 from .monitors import TunnelWatch
 
@@ -111,7 +112,7 @@ class Hanging:
             self.t_stop = None
             if theta1 < self.peak - run.turn_back:
                 peak = math.degrees(self.peak)
-                if self.peak >= p.held_past:  # results.held_past_angle: friction held the hook
+                if self.peak >= p.held_past:  # swing_rules.held_past_angle: friction held the hook
                     return "no_detach", say.turned_back_holding(frame.index, peak, math.degrees(p.held_past),
                                                                 run.holding_note)
                 return "stalled", say.turned_back(frame.index, peak)

@@ -5,7 +5,7 @@ paper's measured swing is the next one, entered from a flight). A traversal succ
 robot, having left frame i, is caught by frame i+1 with its hook seated (a touch held
 ``sim.contact_hold`` within ``sim.catch_seat`` of the seat) *and that catch holds*: the frame,
 the hook still on, carries the robot through its lowest point (theta1 reaches
-:data:`~aero_env.results.CARRIED_THETA1_DEG`, the handrail straight below the axis). A hook caught
+:data:`~aero_env.physics.swing_rules.CARRIED_THETA1_DEG`, the handrail straight below the axis). A hook caught
 2.95 mm off its seat can fall out 0.08 s later; counting the catch at once would pay for that. The
 last frame completes the row by the same rule, not by reaching its stop: on every frame the
 prototype lets go near 160 deg, short of the 180 deg stop, so "until the frame reaches its stop"
@@ -42,7 +42,7 @@ from __future__ import annotations
 import math
 import time
 
-from .. import results as say
+from .. import reasons as say
 from .. import units
 from ..config import Config
 from ..results import SimResult, Swing

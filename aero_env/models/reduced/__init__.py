@@ -57,7 +57,7 @@ mouth, ``sim_time`` when the runner would stop (a decided miss: the centre of ma
 floor, in closed form, or the flight timeout; the end of the step in which the last frame carried
 the robot through its lowest point; a catch that did not hold: its detach + ``contact_hold``).
 A catch is a traversal only once its frame has carried the robot through its lowest point
-(``results.CARRIED_THETA1_DEG``, read at the end of each hooked step and at the detach, ``t_carried``);
+(``physics.swing_rules.CARRIED_THETA1_DEG``, read at the end of each hooked step and at the detach, ``t_carried``);
 a caught robot that lets go before that ends the run (``missed_catch``: a catch that did not hold).
 Stalls the runner only ends by its timeouts are ended early (``STALL_WINDOW``) and reported at the
 runner's time.
@@ -84,7 +84,7 @@ from typing import Mapping, Sequence
 import numba
 import numpy as np
 
-from ...config import Config, ConfigError, real_field
+from ...config import Config, ConfigError, check_values, real_field
 
 _KERNEL_FILES = ("jit.py", "layout.py", "constants.py", "hooked_dynamics.py", "transitions.py", "impacts.py",
                  "hooked_phase.py", "catch.py", "flight.py", "run.py")
@@ -179,7 +179,9 @@ def simulate_batch(cfgs: Sequence[Config], dt: float | None = None) -> BatchResu
 def simulate_values(base: Config, values: Mapping[str, np.ndarray], dt: float | None = None) -> BatchResult:
     """The fast path: the designs ``base`` with ``values`` (dotted ``design.*``/``scene.*`` keys -> arrays of
     one length, or scalars) set, without building a Config per design. Each value is checked against its
-    field's range and the design's cross-checks, as ``Config.with_values`` does, vectorised."""
+    field's range and the design's cross-checks by the config's own checks, vectorised
+    (:func:`aero_env.config.check_values`, :func:`aero_env.config.check_design`): ``Config.with_values``' words,
+    the design's index after the key."""
     check_scene([base])
     raw = raw_from_configs([base])
     n = None
@@ -198,17 +200,7 @@ def simulate_values(base: Config, values: Mapping[str, np.ndarray], dt: float | 
             raise ConfigError(f"simulate_values: {key} is not read by the reduced model (it reads "
                               f"{', '.join(sorted(k for k in raw if '.' in k))})")
         a = np.broadcast_to(np.asarray(v, dtype=float), (n,)).copy()
-        meta = f.metadata
-        lo, hi = meta["lo"], meta["hi"]
-        bad = ~np.isfinite(a)
-        if lo is not None:
-            bad |= (a < lo) | ((a == lo) if meta["lo_open"] else False)
-        if hi is not None:
-            bad |= a > hi
-        if bad.any():
-            i = int(np.flatnonzero(bad)[0])
-            raise ConfigError(f"{key}[{i}] = {a[i]!r}: out of range, allowed "
-                              f"{'(' if meta['lo_open'] else '['}{lo}, {hi}]")
+        check_values(key, f, a)
         raw[key] = a
     set_friction_law(raw, base.scene.effects.friction)
     check_raw(raw)

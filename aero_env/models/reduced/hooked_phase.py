@@ -14,7 +14,7 @@ import math
 
 from .jit import kernel
 
-from ...results import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG
+from ...physics.swing_rules import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG
 from .constants import STALL_WINDOW
 from .hooked_dynamics import (friction_cone, hook_on_frame, hooked_energy, normal_sum, slide_eval, slide_step,
                               stick_eval, stick_step, theta2)

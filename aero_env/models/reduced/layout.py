@@ -48,7 +48,7 @@ X = IntEnum("X", [
     # the tip's turning friction (its magnitude, and the sliding friction's moment)
     "piv", "tq0",
     # where the run is: phase, the frame the robot is on, whether that frame has carried the robot through its
-    # lowest point (results.CARRIED_THETA1_DEG: its catch is a traversal; 1 from the start on frame 0, no catch)
+    # lowest point (swing_rules.CARRIED_THETA1_DEG: its catch is a traversal; 1 from the start on frame 0, no catch)
     "phase", "fi", "carried",
     # the swing's bookkeeping
     "t_catch", "peak", "t_stop", "closest", "barrier", "rec",

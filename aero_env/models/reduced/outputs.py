@@ -7,11 +7,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ... import results as say
-from ...results import TURN_BACK_DEG, SimResult, Swing
+from ... import reasons as say
+from ...physics.swing_rules import TURN_BACK_DEG
+from ...results import SimResult, Swing
 from .layout import (OUTCOMES, R_AHEAD, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_BEHIND, R_COMPLETED, R_GRAZE,
                      R_HELD_LONG, R_LET_GO, R_LOW, R_NEVER_DOWN, R_STIFF, R_STOP_HOLD, R_TIMEOUT, R_TURN_BACK,
-                     R_TURN_NEAR_STOP, R_WEAK, REASON_OUTCOME, O, P, W)
+                     R_T_MAX, R_TURN_NEAR_STOP, R_WEAK, REASON_OUTCOME, O, P, W)
 
 # the constants a reason's sentence quotes
 TEXT_KEYS = ("stop_hold", "stop", "held_past", "swing_timeout", "rest_timeout", "t_max")
@@ -104,44 +105,31 @@ def sim_result(res: BatchResult, i: int, fidelity: str) -> SimResult:
                      health=dict(joint_drift=0.0, limit_overshoot_deg=0.0, penetration=0.0), fidelity=fidelity)
 
 
+# each reason code's sentence (aero_env.reasons, the pymunk runner's words) from the kernel's values v = (v1, v2, v3),
+# the frame ``origin`` and the design's TEXT_KEYS constants ``c``; the energy-barrier stalls are this model's own
+_SENTENCES = {
+    R_COMPLETED: lambda v, origin, c: say.completed(origin),
+    R_STOP_HOLD: lambda v, origin, c: say.held_at_stop(origin, c["stop_hold"], math.degrees(c["stop"])),
+    R_TURN_NEAR_STOP: lambda v, origin, c: say.turned_back_holding(origin, v[0], math.degrees(c["held_past"])),
+    R_TURN_BACK: lambda v, origin, c: say.turned_back(origin, v[0]),
+    R_TIMEOUT: lambda v, origin, c: say.swing_too_long(origin, c["swing_timeout"]),
+    R_HELD_LONG: lambda v, origin, c: say.held_past_balance(origin, v[0], math.degrees(c["held_past"]),
+                                                            c["swing_timeout"]),
+    R_BARRIER: lambda v, origin, c: say.cannot_climb(origin, c["swing_timeout"], TURN_BACK_DEG),
+    R_AT_REST: lambda v, origin, c: say.never_left_rest(origin, c["rest_timeout"]),
+    R_BARRIER_REST: lambda v, origin, c: say.cannot_leave_rest(origin, c["rest_timeout"]),
+    R_STIFF: lambda v, origin, c: say.spring_too_stiff(origin, v[0]),
+    R_LOW: lambda v, origin, c: say.released_low(origin, v[0]),
+    R_GRAZE: lambda v, origin, c: say.grazed(origin, v[0]),
+    R_LET_GO: lambda v, origin, c: say.catch_did_not_hold(origin - 1, *v),  # origin: the frame that caught the hook
+    R_NEVER_DOWN: lambda v, origin, c: say.never_came_down(origin),
+    R_WEAK: lambda v, origin, c: say.spring_too_weak(origin, v[0]),
+    R_BEHIND: lambda v, origin, c: say.passed_behind(origin, v[0]),
+    R_AHEAD: lambda v, origin, c: say.passed_ahead(origin, v[0]),
+    R_T_MAX: lambda v, origin, c: say.reached_t_max(c["t_max"]),
+}
+
+
 def reason_text(code: int, v1: float, v2: float, v3: float, origin: int, c: dict) -> str:
-    """The sentence for a reason code, in the words the pymunk runner uses (:mod:`aero_env.results`); the
-    energy-barrier stalls are this model's own. ``c``: the design's TEXT_KEYS constants."""
-    if code == R_COMPLETED:
-        return say.completed(origin)
-    if code == R_STOP_HOLD:
-        return say.held_at_stop(origin, c["stop_hold"], math.degrees(c["stop"]))
-    if code == R_TURN_NEAR_STOP:
-        return say.turned_back_holding(origin, v1, math.degrees(c["held_past"]))
-    if code == R_TURN_BACK:
-        return say.turned_back(origin, v1)
-    if code == R_TIMEOUT:
-        return say.swing_too_long(origin, c["swing_timeout"])
-    if code == R_HELD_LONG:
-        return say.held_past_balance(origin, v1, math.degrees(c["held_past"]), c["swing_timeout"])
-    if code == R_BARRIER:
-        return (f"swing on frame {origin} would last over {c['swing_timeout']} s: the frame cannot climb "
-                f"{TURN_BACK_DEG:.0f} deg above its rest with the energy it has, or fell back to its rest stop "
-                f"(too little moment imbalance)")
-    if code == R_AT_REST:
-        return say.never_left_rest(origin, c["rest_timeout"])
-    if code == R_BARRIER_REST:
-        return (f"frame {origin} would never leave its rest angle in {c['rest_timeout']} s with the robot hooked "
-                f"(it cannot climb with the energy it has): the counterbalance outweighs the robot")
-    if code == R_STIFF:
-        return say.spring_too_stiff(origin, v1)
-    if code == R_LOW:
-        return say.released_low(origin, v1)
-    if code == R_GRAZE:
-        return say.grazed(origin, v1)
-    if code == R_LET_GO:  # origin: the frame that caught the hook
-        return say.catch_did_not_hold(origin - 1, v1, v2, v3)
-    if code == R_NEVER_DOWN:
-        return say.never_came_down(origin)
-    if code == R_WEAK:
-        return say.spring_too_weak(origin, v1)
-    if code == R_BEHIND:
-        return say.passed_behind(origin, v1)
-    if code == R_AHEAD:
-        return say.passed_ahead(origin, v1)
-    return say.reached_t_max(c["t_max"])
+    """The sentence for a reason code (:data:`_SENTENCES`). ``c``: the design's TEXT_KEYS constants."""
+    return _SENTENCES[code]((v1, v2, v3), origin, c)

@@ -12,9 +12,9 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from ... import units
-from ...config import Config, ConfigError
-from ...inertia import RobotParts, min_Ld, spring_damping_coefficient
-from ...results import held_past_angle
+from ...config import Config, ConfigError, check_design
+from ...inertia import RobotParts, spring_damping_coefficient
+from ...physics.swing_rules import held_past_angle
 from .constants import DRY_FRICTION_RATE, DRY_FRICTION_STEP, MOUTH_END_REACH, STEP
 from .layout import P
 
@@ -81,24 +81,8 @@ def step_for(cfg: Config) -> float:
 
 
 def check_raw(raw) -> None:
-    """The config's design cross-checks (``aero_env/config/sections.py``: ``_check_design``), vectorised."""
-    d = lambda k: raw["design." + k]  # noqa: E731
-    checks = [
-        (d("mu_k") > d("mu_s"), "design.mu_k must not exceed design.mu_s"),
-        (~(d("alpha_min_deg") < d("alpha_max_deg")), "design.alpha_max_deg must exceed design.alpha_min_deg"),
-        (~((d("stop_angle_deg") - d("rest_angle_deg") >= 10.0) & (d("stop_angle_deg") - d("rest_angle_deg") <= 270.0)),
-         "the frame must be able to turn from rest_angle_deg to stop_angle_deg by 10 to 270 deg"),
-        (np.abs(d("dT")) > d("m1") * units.GRAVITY * np.maximum(d("La"), d("Lb")),
-         "design.dT would put the frame's centre of mass beyond its ends"),
-        (d("arm_mass") + d("coin_mass") + d("handrail_mass") >= d("m2"),
-         "design.m2 must exceed its listed parts arm_mass + coin_mass + handrail_mass"),
-        (d("Ld") < min_Ld(d("arm_length"), d("alpha_max_deg"), d("coin_radius")),
-         "design.Ld must leave a torso that holds the coins"),
-    ]
-    for bad, what in checks:
-        if bad.any():
-            i = int(np.flatnonzero(bad)[0])
-            raise ConfigError(f"design {i}: {what}")
+    """The config's design cross-checks (:func:`aero_env.config.check_design`) on the designs' arrays."""
+    check_design(_DesignArrays(raw))
 
 
 def spring_energy(k, stiff, da):

@@ -11,7 +11,7 @@ import math
 from .jit import kernel
 
 from ... import units
-from ...results import CARRIED_THETA1_DEG, TURN_BACK_DEG
+from ...physics.swing_rules import CARRIED_THETA1_DEG, TURN_BACK_DEG
 from .constants import BARRIER_GRID, ENERGY_BARRIER_MARGIN
 from .hooked_dynamics import com_velocity_from_hook, hook_from_com, hooked_energy
 from .layout import DONE, FLIGHT, R_COMPLETED, R_LET_GO, O, P, W, X
