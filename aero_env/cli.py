@@ -13,7 +13,9 @@ function ``register(subparsers, scene_command)``. The design agents (``aero-env 
 its scene and checks its output paths with :mod:`aero_env.scene_args`, not through this module.
 
 Every slip ends with one line on stderr naming the option or key, the value and what is allowed,
-and exit status 2 (argparse's own errors too: no usage block, a pointer to ``--help``); Ctrl-C
+and exit status 2 (argparse's own errors too: no usage block, a pointer to ``--help``), its first
+word the kind of slip (:func:`error_kind`: ``error:`` for an option, ``file error:`` for a file that
+cannot be read, ``config error:`` for a config key or value); Ctrl-C
 ends with one line and exit status 130. Every option's help shows its default.
 """
 
@@ -22,6 +24,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import sys
 from importlib.metadata import PackageNotFoundError, entry_points, version
 
@@ -260,12 +263,24 @@ def build_parser() -> argparse.ArgumentParser:
     return ap
 
 
+def error_kind(message: str) -> str:
+    """What a refusal's line calls itself, by what it names first: ``error`` for a command-line option (as
+    argparse's own errors: ``--designs = '0': ...``, ``--plot 'x/p.png': ...``), ``file error`` for a file that
+    cannot be read as YAML (``config file 'x.yaml': not found``), ``config error`` for a config key or value
+    (``design.Lb = ...``)."""
+    if message.startswith("-"):
+        return "error"
+    if re.match(r"[a-z]+ file '", message):
+        return "file error"
+    return "config error"
+
+
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
     except ConfigError as exc:
-        print(f"aero-env: config error: {exc}", file=sys.stderr)
+        print(f"aero-env: {error_kind(str(exc))}: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:  # commands that keep something (tune, train) say what before this
         print(f"aero-env {args.command}: interrupted", file=sys.stderr)

@@ -64,7 +64,9 @@ def test_an_output_in_a_missing_folder_is_refused_before_any_work(argv, option, 
     monkeypatch.setattr(work, no_work)
     line = one_line_error(capsys, main(argv), option, "nodir", "does not exist")
     assert not (tmp_path / "nodir").exists()
-    assert line.startswith("aero-env: config error:")
+    # the whole line: tune's --plot lies next to --out, so its line names "--out" too ("--plot (next to --out)")
+    assert line == (f"aero-env: error: {option} {argv[argv.index(option) + 1]!r}: folder 'nodir' does not exist; "
+                    f"create it first or give another path")
 
 
 def test_an_output_must_be_a_writable_file_of_a_known_kind(tmp_path):
@@ -336,6 +338,18 @@ def test_a_bad_config_file_is_named_with_its_line(content, words, tmp_path, caps
     p = tmp_path / "bad.yaml"
     p.write_bytes(content) if isinstance(content, bytes) else p.write_text(content)
     one_line_error(capsys, main(["simulate", str(p)]), *words)
+
+
+@pytest.mark.parametrize("argv, start", [
+    (["simulate", str(PAPER), "--set", "design.Lb=5"], "aero-env: config error: design.Lb = 5.0: out of range"),
+    (["simulate", "missing.yaml"], "aero-env: file error: config file 'missing.yaml': not found"),
+    (["simulate", str(PAPER), "--plot", "p.xyz"], "aero-env: error: --plot 'p.xyz': suffix '.xyz'"),
+    (["simulate", str(PAPER), "--set", "design.Lb"], "aero-env: error: --set 'design.Lb': expected KEY=VALUE"),
+])
+def test_a_refusal_names_its_kind_an_option_a_file_or_a_config_value(argv, start, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr("aero_env.simulation.simulate", no_work)
+    assert one_line_error(capsys, main(argv)).startswith(start)
 
 
 def test_a_folder_given_as_config_is_named(capsys):

@@ -4,7 +4,7 @@
                                [--set KEY=VALUE ...]
 
 The tolerance file is read and checked before anything is simulated, so a bad file (or a bad
-count) ends with one ``config error`` line and exit status 2.
+count) ends with one line and exit status 2 (``file error:``, ``config error:``, or ``error:`` for an option).
 """
 
 from __future__ import annotations
