@@ -34,6 +34,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import os
 import time
 import warnings
 from dataclasses import dataclass
@@ -226,7 +227,8 @@ def _vec_env(cfg: Config, n_envs: int, seed: int, monitor_dir: Path | None, pref
         from .vec_env import GymnasiumVecEnv
 
         monitor = str(monitor_dir / f"{prefix}vector") if monitor_dir else None
-        venv = VecMonitor(GymnasiumVecEnv(AerialAcrobatVectorEnv(n_envs, cfg)), monitor)
+        # the pool asked for (aero-env's main is guarded): at a pymunk fidelity one process per core, as before
+        venv = VecMonitor(GymnasiumVecEnv(AerialAcrobatVectorEnv(n_envs, cfg, workers=os.cpu_count() or 1)), monitor)
         venv.seed(seed)
         return venv
     fns = [partial(make_env, cfg.to_dict(), str(monitor_dir / f"{prefix}{i}") if monitor_dir else None)
