@@ -161,7 +161,9 @@ def cmd_train(args) -> int:
     if args.json:
         print(json.dumps({**run, "out": args.out}, indent=2))
     else:
-        print(f"trained {run['algo']} for {run['timesteps']} steps on {run['n_envs']} env(s) in {run['wall_time']:.1f} s "
+        done = run["timesteps_done"]
+        rounded = "" if done == run["timesteps"] else f" (--timesteps {run['timesteps']}, rounded up to whole rounds)"
+        print(f"trained {run['algo']} for {done} steps{rounded} on {run['n_envs']} env(s) in {run['wall_time']:.1f} s "
               f"({run['episodes_per_second']:.1f} episodes/s)")
         print(f"wrote {args.out}/model.zip, config.yaml, run.json, learning_curve.png; "
               f"next: aero-env evaluate {args.out}")

@@ -244,3 +244,38 @@ def test_evaluate_table_of_a_scene_without_context_is_one_row_with_its_count():
     varied = design_table(dict(per_episode=[_episode(s, rise=0.001 * (s + 1)) for s in range(4)],
                                varied_context=["scene.rise"]))
     assert len(varied) == 6 and [ln.split()[0] for ln in varied[2:]] == ["0", "1", "2", "3"]
+
+
+def test_the_progress_bar_counts_the_whole_rollouts_ppo_takes(tmp_path, monkeypatch, capsys):
+    # PPO learns in whole rollouts (n_steps x n_envs): 40 steps asked, 48 taken; the bar must count to 48, not "48/40"
+    from stable_baselines3.common import callbacks as sb3_callbacks
+
+    from agents.rl import progress_plan
+
+    bars = []
+
+    class Bar:
+        def __init__(self, total, desc):
+            self.total, self.desc, self.n = total, desc, 0
+            bars.append(self)
+
+        def update(self, n):
+            self.n += n
+
+        def refresh(self):
+            pass
+
+        def close(self):
+            pass
+
+    monkeypatch.setattr(sb3_callbacks, "tqdm", Bar)
+    settings = TrainSettings(algo="ppo", timesteps=40, seed=0, eval_every=0, progress=True,
+                             hyperparameters={"n_steps": 16, "batch_size": 16}).check()
+    cfg = load_config(PAPER, {"scene.frames": 2, "sim.fidelity": "mbd-fast"})
+    run = train(cfg, settings, tmp_path)
+    assert run["timesteps_done"] == 48 and progress_plan(settings, 40)[0] == 48
+    (bar,) = bars
+    assert bar.total == bar.n == 48 and bar.desc == "steps (16 a round)"
+    assert "PPO trains in whole rollouts of n_steps x n_envs = 16 x 1 = 16 steps: 40 steps to go become 48" in \
+        capsys.readouterr().err
+    assert progress_plan(settings, 48)[2] is None  # a budget of whole rollouts needs no word
