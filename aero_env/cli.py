@@ -28,6 +28,7 @@ import re
 import sys
 from importlib.metadata import PackageNotFoundError, entry_points, version
 
+from . import quantities
 from .config import ConfigError, schema_rows
 from .scene_args import PLOT_SUFFIXES, check_output, load_scene
 
@@ -131,16 +132,16 @@ def cmd_compare(args) -> int:
 
     check_output(args.plot, "--plot", PLOT_SUFFIXES)
     check_output(args.domain_map, "--domain-map", PLOT_SUFFIXES)
-    for option, triple in (("--map-masses", args.map_masses), ("--map-ratios", args.map_ratios)):
-        _check_sweep(option, triple)
+    map_masses = sweep_values("--map-masses", args.map_masses, "kg")
+    map_ratios = sweep_values("--map-ratios", args.map_ratios, "")
     cfg = load_scene(args)
     summary, runs = cmp.compare(cfg, args.swing)
     which = "swing 0, from rest" if args.swing == 0 else f"swing {args.swing}, caught from a flight"
     if args.plot:
         cmp.plot_comparison(runs, args.plot, title=f"quasi-static vs two-link vs MBD, {which} (dashed: with drag)")
     if args.domain_map:
-        masses = np.geomspace(*args.map_masses[:2], int(args.map_masses[2])) if args.map_masses else None
-        ratios = np.linspace(*args.map_ratios[:2], int(args.map_ratios[2])) if args.map_ratios else None
+        masses = np.geomspace(*map_masses[:2], int(map_masses[2])) if map_masses else None
+        ratios = np.linspace(*map_ratios[:2], int(map_ratios[2])) if map_ratios else None
         dm = cmp.domain_map(cfg, masses=masses, ratios=ratios)
         cmp.plot_domain_map(dm, args.domain_map, prototype=(cfg.design.m2, cmp.moment_ratio(cfg.design)))
         summary["domain_map"] = dm
@@ -176,10 +177,28 @@ def cmd_compare(args) -> int:
     return 0
 
 
+def sweep_values(option: str, texts, unit: str) -> tuple[float, float, float] | None:
+    """LO HI N of a domain-map axis as numbers, LO and HI in ``unit`` with or without a unit as ``--set`` takes them
+    (``4g 60g 7`` is 0.004 0.06 7 kg), checked: 0 < LO < HI and N a whole number in [2, 1000]."""
+    if texts is None:
+        return None
+    values = []
+    for name, text, in_unit in zip(("LO", "HI", "N"), texts, (unit, unit, "")):
+        try:
+            v = quantities.parse(text, in_unit)
+        except quantities.UnitError as exc:
+            raise ConfigError(f"{option} {' '.join(texts)}: {name} = {text!r}: {exc}") from None
+        if v is None:
+            raise ConfigError(f"{option} {' '.join(texts)}: {name} = {text!r}: must be a number"
+                              + (f" ({in_unit}, or with a unit: {', '.join(quantities.units_for(in_unit))})" if in_unit
+                                 else ""))
+        values.append(v)
+    _check_sweep(option, tuple(values))
+    return tuple(values)
+
+
 def _check_sweep(option: str, triple) -> None:
     """LO HI N of a domain-map axis: 0 < LO < HI and N a whole number >= 2."""
-    if triple is None:
-        return
     lo, hi, n = triple
     if not 0 < lo < hi:
         raise ConfigError(f"{option} {lo:g} {hi:g} {n:g}: needs 0 < LO < HI")
@@ -242,9 +261,10 @@ def build_parser() -> argparse.ArgumentParser:
     cp.add_argument("--plot", metavar="FILE.png", help="draw theta, omega and theta'' of the three models")
     cp.add_argument("--domain-map", metavar="FILE.png",
                     help="sweep robot mass and frame energy over the first swing, from rest (the paper's Fig. 29)")
-    cp.add_argument("--map-masses", nargs=3, type=float, metavar=("LO", "HI", "N"),
-                    help="robot masses m2 for the map, kg, log-spaced (default: compare.MAP_MASSES, 4-60 g, 7)")
-    cp.add_argument("--map-ratios", nargs=3, type=float, metavar=("LO", "HI", "N"),
+    cp.add_argument("--map-masses", nargs=3, metavar=("LO", "HI", "N"),
+                    help="robot masses m2 for the map, log-spaced: kg, or with a unit as --set takes it (4g 60g 7) "
+                         "(default: compare.MAP_MASSES, 4-60 g, 7)")
+    cp.add_argument("--map-ratios", nargs=3, metavar=("LO", "HI", "N"),
                     help="counterbalance moment / robot moment (m3·La)/(m2·Lb) for the map "
                          "(default: compare.MAP_RATIOS, 0.6-0.95, 8)")
     cp.set_defaults(func=cmd_compare)

@@ -102,6 +102,20 @@ def test_set_accepts_a_value_with_its_unit(text, key, value):
     assert load_config(PAPER, dict([parse_override(text)])).value(key) == value  # exact: 48.3 mm is 0.0483
 
 
+def test_map_masses_takes_units_as_set_does(capsys):
+    from aero_env.cli import sweep_values
+
+    args = build_parser().parse_args(["compare", str(PAPER), "--map-masses", "4g", "60g", "7"])
+    assert sweep_values("--map-masses", args.map_masses, "kg") == (0.004, 0.06, 7.0)
+    assert sweep_values("--map-masses", ["0.004", "60 g", "7"], "kg") == (0.004, 0.06, 7.0)  # plain: kg
+    assert sweep_values("--map-ratios", ["0.6", "0.95", "8"], "") == (0.6, 0.95, 8.0)
+    for texts, words in [(["4oz", "60g", "7"], ["--map-masses 4oz 60g 7: LO = '4oz'", "kg, g, mg"]),
+                         (["4g", "60g", "7g"], ["N = '7g'", "no unit"]),
+                         (["60g", "4g", "7"], ["needs 0 < LO < HI"])]:
+        one_line_error(capsys, main(["compare", str(PAPER), "--domain-map", "d.png", "--map-masses", *texts]),
+                       "aero-env: error: --map-masses", *words)
+
+
 def test_yaml_accepts_values_with_units(tmp_path):
     p = tmp_path / "units.yaml"
     p.write_text("design:\n  m2: 7.71 g\n  La: \"48.3 mm\"\n  spring_k: 0.877 N*mm/rad\n  rest_angle_deg: 55 deg\n"
