@@ -59,3 +59,37 @@ def test_a_guarded_script_that_makes_the_pool_outside_its_guard_gets_a_line_nami
     assert any(ln.startswith("aero-env: error: workers = 2: this script made a pooled vector env outside")
                for ln in lines), done.stderr
     assert "bootstrapping" not in done.stderr and "BrokenProcessPool" not in done.stderr, done.stderr
+
+
+CHECK_ENV_SCRIPT = """\
+import sys
+import gymnasium as gym
+from gymnasium.utils.env_checker import check_env
+import aero_env
+
+env = gym.make("aero_env/AerialAcrobat-v0", render_mode="rgb_array", **{"scene.frames": 2})
+env.reset(seed=0)
+env.step(env.action_space.sample())
+print(env.render().shape, "pygame" in sys.modules)
+check_env(env.unwrapped)  # makes the env again in every declared mode, human too
+print("checked")
+"""
+
+
+def _headless(xdg: str | None) -> dict:
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER",
+                                                               "XDG_RUNTIME_DIR")}
+    return env if xdg is None else {**env, "XDG_RUNTIME_DIR": xdg}
+
+
+def test_check_env_on_a_headless_machine_says_nothing_about_the_display_library(tmp_path):
+    for xdg in (None, str(tmp_path / "missing")):  # unset, or naming no folder
+        script = tmp_path / "check.py"
+        script.write_text(CHECK_ENV_SCRIPT)
+        done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, cwd=tmp_path,
+                              env={**_headless(xdg), "PYTHONPATH": str(ROOT)}, timeout=300)
+        assert done.returncode == 0, done.stderr
+        # rgb_array never imports pygame; human, on no display, draws into SDL's dummy driver and says so once
+        assert done.stdout.splitlines() == ["(300, 720, 3) False", "checked"], done.stdout
+        assert "XDG" not in done.stderr and "error" not in done.stderr.lower(), done.stderr
+        assert done.stderr.count("WARN: render_mode='human' with no display") == 1, done.stderr
