@@ -13,7 +13,9 @@ function ``register(subparsers, scene_command)``. The design agents (``aero-env 
 its scene and checks its output paths with :mod:`aero_env.scene_args`, not through this module.
 
 Every slip ends with one line on stderr naming the option or key, the value and what is allowed,
-and exit status 2 (argparse's own errors too: no usage block, a pointer to ``--help``); Ctrl-C
+and exit status 2 (argparse's own errors too: no usage block, a pointer to ``--help``), its first
+word the kind of slip (:func:`error_kind`: ``error:`` for an option, ``file error:`` for a file that
+cannot be read, ``config error:`` for a config key or value); Ctrl-C
 ends with one line and exit status 130. Every option's help shows its default.
 """
 
@@ -22,9 +24,11 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import sys
 from importlib.metadata import PackageNotFoundError, entry_points, version
 
+from . import quantities
 from .config import ConfigError, schema_rows
 from .scene_args import PLOT_SUFFIXES, check_output, load_scene
 
@@ -128,16 +132,16 @@ def cmd_compare(args) -> int:
 
     check_output(args.plot, "--plot", PLOT_SUFFIXES)
     check_output(args.domain_map, "--domain-map", PLOT_SUFFIXES)
-    for option, triple in (("--map-masses", args.map_masses), ("--map-ratios", args.map_ratios)):
-        _check_sweep(option, triple)
+    map_masses = sweep_values("--map-masses", args.map_masses, "kg")
+    map_ratios = sweep_values("--map-ratios", args.map_ratios, "")
     cfg = load_scene(args)
     summary, runs = cmp.compare(cfg, args.swing)
     which = "swing 0, from rest" if args.swing == 0 else f"swing {args.swing}, caught from a flight"
     if args.plot:
         cmp.plot_comparison(runs, args.plot, title=f"quasi-static vs two-link vs MBD, {which} (dashed: with drag)")
     if args.domain_map:
-        masses = np.geomspace(*args.map_masses[:2], int(args.map_masses[2])) if args.map_masses else None
-        ratios = np.linspace(*args.map_ratios[:2], int(args.map_ratios[2])) if args.map_ratios else None
+        masses = np.geomspace(*map_masses[:2], int(map_masses[2])) if map_masses else None
+        ratios = np.linspace(*map_ratios[:2], int(map_ratios[2])) if map_ratios else None
         dm = cmp.domain_map(cfg, masses=masses, ratios=ratios)
         cmp.plot_domain_map(dm, args.domain_map, prototype=(cfg.design.m2, cmp.moment_ratio(cfg.design)))
         summary["domain_map"] = dm
@@ -173,10 +177,28 @@ def cmd_compare(args) -> int:
     return 0
 
 
+def sweep_values(option: str, texts, unit: str) -> tuple[float, float, float] | None:
+    """LO HI N of a domain-map axis as numbers, LO and HI in ``unit`` with or without a unit as ``--set`` takes them
+    (``4g 60g 7`` is 0.004 0.06 7 kg), checked: 0 < LO < HI and N a whole number in [2, 1000]."""
+    if texts is None:
+        return None
+    values = []
+    for name, text, in_unit in zip(("LO", "HI", "N"), texts, (unit, unit, "")):
+        try:
+            v = quantities.parse(text, in_unit)
+        except quantities.UnitError as exc:
+            raise ConfigError(f"{option} {' '.join(texts)}: {name} = {text!r}: {exc}") from None
+        if v is None:
+            raise ConfigError(f"{option} {' '.join(texts)}: {name} = {text!r}: must be a number"
+                              + (f" ({in_unit}, or with a unit: {', '.join(quantities.units_for(in_unit))})" if in_unit
+                                 else ""))
+        values.append(v)
+    _check_sweep(option, tuple(values))
+    return tuple(values)
+
+
 def _check_sweep(option: str, triple) -> None:
     """LO HI N of a domain-map axis: 0 < LO < HI and N a whole number >= 2."""
-    if triple is None:
-        return
     lo, hi, n = triple
     if not 0 < lo < hi:
         raise ConfigError(f"{option} {lo:g} {hi:g} {n:g}: needs 0 < LO < HI")
@@ -239,9 +261,10 @@ def build_parser() -> argparse.ArgumentParser:
     cp.add_argument("--plot", metavar="FILE.png", help="draw theta, omega and theta'' of the three models")
     cp.add_argument("--domain-map", metavar="FILE.png",
                     help="sweep robot mass and frame energy over the first swing, from rest (the paper's Fig. 29)")
-    cp.add_argument("--map-masses", nargs=3, type=float, metavar=("LO", "HI", "N"),
-                    help="robot masses m2 for the map, kg, log-spaced (default: compare.MAP_MASSES, 4-60 g, 7)")
-    cp.add_argument("--map-ratios", nargs=3, type=float, metavar=("LO", "HI", "N"),
+    cp.add_argument("--map-masses", nargs=3, metavar=("LO", "HI", "N"),
+                    help="robot masses m2 for the map, log-spaced: kg, or with a unit as --set takes it (4g 60g 7) "
+                         "(default: compare.MAP_MASSES, 4-60 g, 7)")
+    cp.add_argument("--map-ratios", nargs=3, metavar=("LO", "HI", "N"),
                     help="counterbalance moment / robot moment (m3·La)/(m2·Lb) for the map "
                          "(default: compare.MAP_RATIOS, 0.6-0.95, 8)")
     cp.set_defaults(func=cmd_compare)
@@ -260,12 +283,24 @@ def build_parser() -> argparse.ArgumentParser:
     return ap
 
 
+def error_kind(message: str) -> str:
+    """What a refusal's line calls itself, by what it names first: ``error`` for a command-line option (as
+    argparse's own errors: ``--designs = '0': ...``, ``--plot 'x/p.png': ...``), ``file error`` for a file that
+    cannot be read as YAML (``config file 'x.yaml': not found``), ``config error`` for a config key or value
+    (``design.Lb = ...``)."""
+    if message.startswith("-"):
+        return "error"
+    if re.match(r"[a-z]+ file '", message):
+        return "file error"
+    return "config error"
+
+
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
     except ConfigError as exc:
-        print(f"aero-env: config error: {exc}", file=sys.stderr)
+        print(f"aero-env: {error_kind(str(exc))}: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:  # commands that keep something (tune, train) say what before this
         print(f"aero-env {args.command}: interrupted", file=sys.stderr)

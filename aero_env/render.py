@@ -15,16 +15,27 @@ import numpy as np
 from .physics.run import TRACE_COLUMNS, SimResult
 
 
+# simulate --trace's columns: each trace column's header, with its unit, and how its SI value is written. Angles in
+# degrees, as every table prints them and as `aero-env calibrate --trace` reads a measured swing.
+_SI, _DEG = float, math.degrees
+TRACE_CSV_COLUMNS = {"t": ("t_s", _SI), "frame": ("frame", int), "theta1": ("theta1_deg", _DEG),
+                     "theta2": ("theta2_deg", _DEG), "alpha": ("alpha_deg", _DEG), "omega1": ("omega1_deg_s", _DEG),
+                     "omega2": ("omega2_deg_s", _DEG), "alpha_rate": ("alpha_rate_deg_s", _DEG),
+                     "contact": ("contact", int), "energy": ("energy_J", _SI)}
+
+
 def write_trace_csv(result: SimResult, path: str | Path) -> None:
-    """Time, active frame, theta1, theta2, alpha (rad), their rates (rad/s), contact (frame index or -1), energy (J)."""
+    """Time (s), active frame, theta1, theta2, alpha (deg), their rates (deg/s), contact (frame index or -1), energy
+    (J): the headers carry the units (:data:`TRACE_CSV_COLUMNS`)."""
     if result.trace is None:
         raise ValueError("this result has no trace: simulate(..., trace=True)")
     cols = [result.trace[c] for c in TRACE_COLUMNS]
+    writes = [TRACE_CSV_COLUMNS[c][1] for c in TRACE_COLUMNS]
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(TRACE_COLUMNS)
+        w.writerow([TRACE_CSV_COLUMNS[c][0] for c in TRACE_COLUMNS])
         for row in zip(*cols):
-            w.writerow([int(v) if c in ("frame", "contact") else repr(float(v)) for c, v in zip(TRACE_COLUMNS, row)])
+            w.writerow([int(v) if f is int else repr(f(float(v))) for f, v in zip(writes, row)])
 
 
 def plot_angles(result: SimResult, path: str | Path, title: str = "") -> None:

@@ -162,7 +162,9 @@ def cmd_train(args) -> int:
     if args.json:
         print(json.dumps({**run, "out": args.out}, indent=2))
     else:
-        print(f"trained {run['algo']} for {run['timesteps']} steps on {run['n_envs']} env(s) in {run['wall_time']:.1f} s "
+        done = run["timesteps_done"]
+        rounded = "" if done == run["timesteps"] else f" (--timesteps {run['timesteps']}, rounded up to whole rounds)"
+        print(f"trained {run['algo']} for {done} steps{rounded} on {run['n_envs']} env(s) in {run['wall_time']:.1f} s "
               f"({run['episodes_per_second']:.1f} episodes/s)")
         print(f"wrote {args.out}/model.zip, config.yaml, run.json, learning_curve.png; "
               f"next: aero-env evaluate {args.out}")
@@ -216,10 +218,20 @@ def design_table(rep: dict) -> list[str]:
     def cell(key: str, value: float) -> str:
         return f"{in_maker_units(value, units[key])[0]:.4g}"
 
-    lines = ["designs chosen per context" + ("" if context else " (the scene draws no context: one design)") + ":",
-             "  ".join(f"{h:>12}" for h in ["seed", *map(heading, keys), "reward", "outcome"])]
-    for row in rows:
+    def cells(row: dict) -> list[str]:
         values = {**row["context"], **row["design"]}
-        lines.append("  ".join(f"{v:>12}" for v in [str(row["seed"]), *(cell(k, values[k]) for k in keys),
-                                                     f"{row['reward']:g}", row["outcome"]]))
+        return [*(cell(k, values[k]) for k in keys), f"{row['reward']:g}", row["outcome"]]
+
+    if context:
+        lines = ["designs chosen per context:",
+                 "  ".join(f"{h:>12}" for h in ["seed", *map(heading, keys), "reward", "outcome"])]
+        lines += ["  ".join(f"{v:>12}" for v in [str(row["seed"]), *cells(row)]) for row in rows]
+        return lines
+    # nothing observed: every episode gets the same design; one row per distinct result, with its episode count
+    counts: dict[tuple, int] = {}
+    for row in rows:
+        counts[tuple(cells(row))] = counts.get(tuple(cells(row)), 0) + 1
+    lines = [f"the design chosen (the scene draws no context: one design for all {len(rows)} episodes):",
+             "  ".join(f"{h:>12}" for h in ["episodes", *map(heading, keys), "reward", "outcome"])]
+    lines += ["  ".join(f"{v:>12}" for v in [str(n), *row]) for row, n in counts.items()]
     return lines

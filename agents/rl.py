@@ -34,6 +34,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import os
 import time
 import warnings
 from dataclasses import dataclass
@@ -107,6 +108,27 @@ class TrainSettings:
 
     def algo_kwargs(self) -> dict[str, Any]:
         return {**ALGO_DEFAULTS[self.algo], **(self.hyperparameters or {})}
+
+    def steps_per_round(self) -> int:
+        """Steps SB3 takes between two looks at the budget: PPO a whole rollout (n_steps x n_envs), SAC one step
+        of every env; ``learn`` stops at the first whole round at or past the budget."""
+        return self.algo_kwargs()["n_steps"] * self.n_envs if self.algo == "ppo" else self.n_envs
+
+
+def progress_plan(settings: TrainSettings, todo: int) -> tuple[int, str, str | None]:
+    """What the progress bar counts for ``todo`` more steps: the steps ``learn`` will take (``todo`` rounded up
+    to whole rounds, :meth:`TrainSettings.steps_per_round`), the bar's description, and the line said before it
+    when the rounding adds steps (None otherwise)."""
+    unit = settings.steps_per_round()
+    total = math.ceil(todo / unit) * unit
+    if settings.algo == "ppo":
+        n_steps = settings.algo_kwargs()["n_steps"]
+        what = f"whole rollouts of n_steps x n_envs = {n_steps} x {settings.n_envs} = {unit} steps"
+    else:
+        what = f"a step of each of the {unit} envs at a time"
+    line = None if total == todo else (f"aero-env train: {settings.algo.upper()} trains in {what}: {todo} steps "
+                                       f"to go become {total}")
+    return total, f"steps ({unit} a round)", line
 
 
 def check_hyperparameter(algo: str, name: str, value: Any) -> Any:
@@ -226,7 +248,8 @@ def _vec_env(cfg: Config, n_envs: int, seed: int, monitor_dir: Path | None, pref
         from .vec_env import GymnasiumVecEnv
 
         monitor = str(monitor_dir / f"{prefix}vector") if monitor_dir else None
-        venv = VecMonitor(GymnasiumVecEnv(AerialAcrobatVectorEnv(n_envs, cfg)), monitor)
+        # the pool asked for (aero-env's main is guarded): at a pymunk fidelity one process per core, as before
+        venv = VecMonitor(GymnasiumVecEnv(AerialAcrobatVectorEnv(n_envs, cfg, workers=os.cpu_count() or 1)), monitor)
         venv.seed(seed)
         return venv
     fns = [partial(make_env, cfg.to_dict(), str(monitor_dir / f"{prefix}{i}") if monitor_dir else None)
@@ -289,11 +312,13 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
     run = dict(algo=settings.algo, timesteps=settings.timesteps, n_envs=settings.n_envs, seed=settings.seed,
                eval_every=settings.eval_every, vector=settings.vector,
                hyperparameters=_jsonable(settings.algo_kwargs()))
+    if settings.progress:
+        callbacks.append(_progress_bar(settings, todo))
     t0 = time.perf_counter()
     try:
         with warnings.catch_warnings():  # the evaluations run one env in-process, whatever --n-envs says
             warnings.filterwarnings("ignore", message="Training and eval env are not of the same type")
-            model.learn(todo, callback=callbacks, progress_bar=settings.progress, reset_num_timesteps=before is None)
+            model.learn(todo, callback=callbacks, reset_num_timesteps=before is None)
     except KeyboardInterrupt:
         wall = wall_before + time.perf_counter() - t0
         model.save(out / "model.zip")
@@ -309,12 +334,30 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
     model.save(out / "model.zip")
     (out / "replay_buffer.pkl").unlink(missing_ok=True)
     _close(venv)
-    run.update(timesteps_done=int(model.num_timesteps), wall_time=wall, episodes_per_second=settings.timesteps / wall)
+    run.update(timesteps_done=int(model.num_timesteps), wall_time=wall, episodes_per_second=model.num_timesteps / wall)
     if before:
         run["segments"] = segment + 1
     (out / "run.json").write_text(json.dumps(run, indent=2))
     plot_learning_curve(out, out / "learning_curve.png")
     return run
+
+
+def _progress_bar(settings: TrainSettings, todo: int):
+    """SB3's progress bar counting the steps ``learn`` will take (its own counts up to ``todo`` and runs past it, to
+    the end of the last rollout: "256/200"); a line on stderr first says why the count exceeds ``--timesteps``."""
+    import sys
+
+    from stable_baselines3.common import callbacks as sb3_callbacks
+
+    total, description, line = progress_plan(settings, todo)
+
+    class WholeRounds(sb3_callbacks.ProgressBarCallback):
+        def _on_training_start(self) -> None:
+            if line:
+                print(line, file=sys.stderr)
+            self.pbar = sb3_callbacks.tqdm(total=total, desc=description)
+
+    return WholeRounds()
 
 
 def _jsonable(x):

@@ -24,7 +24,16 @@ INSTALL = "sudo apt-get install -y postgresql   (Debian/Ubuntu; .ci/run does thi
 
 
 class PostgresMissing(RuntimeError):
-    pass
+    """PostgreSQL cannot serve the tests here: its programs are missing, or the server would not start. The message
+    is one line (what is missing or which command failed, and its last words), for ``pytest.fail``."""
+
+
+def _last_line(*texts: str) -> str:
+    for text in texts:
+        lines = [ln.strip() for ln in text.splitlines() if ln.strip()]
+        if lines:
+            return lines[-1]
+    return "no output"
 
 
 def find_bin(name: str) -> str:
@@ -88,8 +97,9 @@ def postgres_cluster():
     def run(*cmd: str) -> None:
         done = subprocess.run([*prefix, *cmd], capture_output=True, text=True, timeout=120)
         if done.returncode != 0:
-            extra = log.read_text()[-2000:] if log.exists() else ""
-            raise RuntimeError(f"{' '.join(cmd)} failed ({done.returncode}): {done.stderr[-2000:]}{extra}")
+            server = log.read_text(errors="replace") if log.exists() else ""
+            raise PostgresMissing(f"PostgreSQL would not start: {Path(cmd[0]).name} {cmd[-1]} exited "
+                                  f"{done.returncode}: {_last_line(server, done.stderr, done.stdout)}")
 
     try:
         run(initdb, "-D", str(data), "-A", "trust", "-U", "postgres", "--no-sync", "-E", "UTF8")

@@ -273,3 +273,19 @@ def test_same_seed_gives_identical_json_in_two_processes(tmp_path):
     else:  # no trial had a usable swing 1: nothing calibrated to write
         assert not out.exists()
     assert plot.stat().st_size > 10_000
+
+
+def test_calibrate_reads_the_trace_that_simulate_writes(tmp_path, capsys):
+    # the whole run simulate --trace writes (t_s from the run's start, degrees, a contact column) is a measured swing
+    # to calibrate: the swing's own rows, timed from its catch; at the machine that wrote it the fit is exact
+    trace = tmp_path / "run.csv"
+    assert cli.main(["simulate", str(PAPER), *SCENE, "--set", f"design.m3={TRUE_M3}", "--trace", str(trace)]) == 0
+    capsys.readouterr()
+    rc, out, err = run_cli(capsys, "--trace", str(trace), "--swing", str(SWING),
+                           "--fit", f"design.m3={FIT_RANGE[0]}:{FIT_RANGE[1]}", "--trials", str(RECOVERY_TRIALS),
+                           "--json")
+    assert rc == 0, err
+    doc = json.loads(out)
+    assert doc["miss"] is None and doc["swing"] == SWING
+    assert abs(doc["fitted"]["design.m3"] - TRUE_M3) < M3_TOLERANCE
+    assert doc["rms_theta1_deg"] < NOISE_DEG and doc["rms_theta2_deg"] < NOISE_DEG  # degrees read as degrees

@@ -42,8 +42,10 @@ def test_table_trace_plot_and_gif(tmp_path):
                          check=True, capture_output=True, text=True).stdout
     assert "outcome: completed" in out and "traversals: 1 of 1" in out
     rows = list(csv.DictReader(trace.open()))
-    assert {"t", "theta1", "theta2", "alpha", "omega1", "omega2", "alpha_rate", "contact"} <= set(rows[0])
-    assert float(rows[-1]["t"]) > 0.6
+    assert list(rows[0]) == ["t_s", "frame", "theta1_deg", "theta2_deg", "alpha_deg", "omega1_deg_s", "omega2_deg_s",
+                             "alpha_rate_deg_s", "contact", "energy_J"]  # each header names its unit
+    assert float(rows[-1]["t_s"]) > 0.6
+    assert 40 < float(rows[0]["theta1_deg"]) < 70  # degrees, as the table prints: the catch at 55 deg
     assert {int(r["contact"]) for r in rows} >= {-1, 0, 1}  # hooked on 0, in flight, caught by 1
     assert Image.open(plot).size[0] > 500
     anim = Image.open(gif)

@@ -221,3 +221,61 @@ def test_train_through_the_native_vector_env_learns_the_context(tmp_path):
         train(cfg, TrainSettings(algo="ppo", timesteps=4096, n_envs=16, seed=0, eval_every=0, progress=False,
                                  vector=False, hyperparameters={"learning_rate": 3e-3, "n_steps": 16}), tmp_path,
               resume=True)
+
+
+def _episode(seed, rise=0.0, m3=0.0072, reward=7.0, outcome="completed"):
+    return dict(seed=seed, context={"scene.rise": rise} if rise else {}, design={"design.m3": m3}, reward=reward,
+                outcome=outcome)
+
+
+def test_evaluate_table_of_a_scene_without_context_is_one_row_with_its_count():
+    from agents.commands import design_table
+
+    same = design_table(dict(per_episode=[_episode(s) for s in range(20)], varied_context=[]))
+    assert same[0] == "the design chosen (the scene draws no context: one design for all 20 episodes):"
+    assert len(same) == 3 and same[1].split()[0] == "episodes"
+    assert same[2].split() == ["20", "7.2", "7", "completed"]  # 20 episodes, m3 in g, reward, outcome
+    # the same design can meet another outcome (tolerances draw the as-built machine): one row per result
+    mixed = design_table(dict(per_episode=[_episode(s) for s in range(3)] + [_episode(3, reward=2.0,
+                                                                                      outcome="missed_catch")],
+                              varied_context=[]))
+    assert [ln.split()[0] for ln in mixed[2:]] == ["3", "1"]
+    # a drawn context keeps one row per episode, with its seed
+    varied = design_table(dict(per_episode=[_episode(s, rise=0.001 * (s + 1)) for s in range(4)],
+                               varied_context=["scene.rise"]))
+    assert len(varied) == 6 and [ln.split()[0] for ln in varied[2:]] == ["0", "1", "2", "3"]
+
+
+def test_the_progress_bar_counts_the_whole_rollouts_ppo_takes(tmp_path, monkeypatch, capsys):
+    # PPO learns in whole rollouts (n_steps x n_envs): 40 steps asked, 48 taken; the bar must count to 48, not "48/40"
+    from stable_baselines3.common import callbacks as sb3_callbacks
+
+    from agents.rl import progress_plan
+
+    bars = []
+
+    class Bar:
+        def __init__(self, total, desc):
+            self.total, self.desc, self.n = total, desc, 0
+            bars.append(self)
+
+        def update(self, n):
+            self.n += n
+
+        def refresh(self):
+            pass
+
+        def close(self):
+            pass
+
+    monkeypatch.setattr(sb3_callbacks, "tqdm", Bar)
+    settings = TrainSettings(algo="ppo", timesteps=40, seed=0, eval_every=0, progress=True,
+                             hyperparameters={"n_steps": 16, "batch_size": 16}).check()
+    cfg = load_config(PAPER, {"scene.frames": 2, "sim.fidelity": "mbd-fast"})
+    run = train(cfg, settings, tmp_path)
+    assert run["timesteps_done"] == 48 and progress_plan(settings, 40)[0] == 48
+    (bar,) = bars
+    assert bar.total == bar.n == 48 and bar.desc == "steps (16 a round)"
+    assert "PPO trains in whole rollouts of n_steps x n_envs = 16 x 1 = 16 steps: 40 steps to go become 48" in \
+        capsys.readouterr().err
+    assert progress_plan(settings, 48)[2] is None  # a budget of whole rollouts needs no word

@@ -64,7 +64,9 @@ def _cli_json(*extra: str, hash_seed: str) -> dict:
     env = {**os.environ, "PYTHONHASHSEED": hash_seed}
     out = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
-    assert out.stderr == ""  # no progress when stderr is not a terminal
+    # stderr holds the progress bar only (as tune's); stdout the one JSON object
+    assert [ln for ln in out.stderr.replace("\r", "\n").splitlines() if ln.strip()
+            and not ln.startswith("robustness:")] == [], out.stderr
     return json.loads(out.stdout)
 
 
@@ -171,7 +173,8 @@ def test_a_bad_tolerance_file_is_one_line_exit_2_nothing_simulated(case, tmp_pat
     monkeypatch.setattr(aero_env.simulation, "simulate", _no_simulation)
     assert main(["robustness", str(PAPER), "--tolerances", str(path), "--draws", "2"]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("aero-env: config error: ") and err.count("\n") == 1, err
+    kind = "file error" if case == "bad_yaml" else "config error"  # the file unread; a value in it
+    assert err.startswith(f"aero-env: {kind}: ") and err.count("\n") == 1, err
     assert expected in err
 
 
@@ -204,17 +207,26 @@ def test_default_table_applies_to_the_prototype_and_covers_the_brief():
     assert all(t.reason for t in DEFAULT_TOLERANCES)
 
 
-def test_the_table_and_the_progress_line(tmp_path, monkeypatch, capsys):
+def test_the_table_and_the_progress_bar(tmp_path, monkeypatch, capsys):
     path = tmp_path / "tol.yaml"
     path.write_text(json.dumps(SMALL))  # JSON is YAML
     monkeypatch.setattr(aero_env.simulation, "simulate", stand_in)
-    assert main(["robustness", str(PAPER), "--draws", "5", "--tolerances", str(path), "--set", "scene.frames=3"]) == 0
+    argv = ["robustness", str(PAPER), "--draws", "5", "--tolerances", str(path), "--set", "scene.frames=3"]
+    assert main([*argv, "--no-progress"]) == 0
     out, err = capsys.readouterr()
     assert "of 5 builds" in out
     assert "single changes" in out and "1 of 8 break the row" in out and "effects in the random draws" in out
     assert err == ""
-    tty = SimpleNamespace(isatty=lambda: True, written=[])
+    # as tune shows its trials: a bar of the runs on stderr, whatever stderr is; --json's stdout stays one object
+    assert main([*argv, "--json"]) == 0
+    out, err = capsys.readouterr()
+    runs = 1 + 8 + 5  # the nominal build, the single changes, the draws
+    assert json.loads(out)["draws"] == 5
+    assert "robustness" in err and f"{runs}/{runs}" in err and "run" in err, err
+    # without tqdm (the core install) the same count as a line rewritten in place
+    monkeypatch.setitem(sys.modules, "tqdm", None)
+    tty = SimpleNamespace(written=[])
     tty.write, tty.flush = tty.written.append, lambda: None
-    progress = _Progress(tty)
+    progress = _Progress(stream=tty)
     progress(1, 2), progress(2, 2)
     assert "".join(tty.written) == "\rrobustness: 1/2 runs\rrobustness: 2/2 runs\n"

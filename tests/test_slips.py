@@ -64,7 +64,9 @@ def test_an_output_in_a_missing_folder_is_refused_before_any_work(argv, option, 
     monkeypatch.setattr(work, no_work)
     line = one_line_error(capsys, main(argv), option, "nodir", "does not exist")
     assert not (tmp_path / "nodir").exists()
-    assert line.startswith("aero-env: config error:")
+    # the whole line: tune's --plot lies next to --out, so its line names "--out" too ("--plot (next to --out)")
+    assert line == (f"aero-env: error: {option} {argv[argv.index(option) + 1]!r}: folder 'nodir' does not exist; "
+                    f"create it first or give another path")
 
 
 def test_an_output_must_be_a_writable_file_of_a_known_kind(tmp_path):
@@ -98,6 +100,20 @@ def test_an_output_must_be_a_writable_file_of_a_known_kind(tmp_path):
 ])
 def test_set_accepts_a_value_with_its_unit(text, key, value):
     assert load_config(PAPER, dict([parse_override(text)])).value(key) == value  # exact: 48.3 mm is 0.0483
+
+
+def test_map_masses_takes_units_as_set_does(capsys):
+    from aero_env.cli import sweep_values
+
+    args = build_parser().parse_args(["compare", str(PAPER), "--map-masses", "4g", "60g", "7"])
+    assert sweep_values("--map-masses", args.map_masses, "kg") == (0.004, 0.06, 7.0)
+    assert sweep_values("--map-masses", ["0.004", "60 g", "7"], "kg") == (0.004, 0.06, 7.0)  # plain: kg
+    assert sweep_values("--map-ratios", ["0.6", "0.95", "8"], "") == (0.6, 0.95, 8.0)
+    for texts, words in [(["4oz", "60g", "7"], ["--map-masses 4oz 60g 7: LO = '4oz'", "kg, g, mg"]),
+                         (["4g", "60g", "7g"], ["N = '7g'", "no unit"]),
+                         (["60g", "4g", "7"], ["needs 0 < LO < HI"])]:
+        one_line_error(capsys, main(["compare", str(PAPER), "--domain-map", "d.png", "--map-masses", *texts]),
+                       "aero-env: error: --map-masses", *words)
 
 
 def test_yaml_accepts_values_with_units(tmp_path):
@@ -336,6 +352,18 @@ def test_a_bad_config_file_is_named_with_its_line(content, words, tmp_path, caps
     p = tmp_path / "bad.yaml"
     p.write_bytes(content) if isinstance(content, bytes) else p.write_text(content)
     one_line_error(capsys, main(["simulate", str(p)]), *words)
+
+
+@pytest.mark.parametrize("argv, start", [
+    (["simulate", str(PAPER), "--set", "design.Lb=5"], "aero-env: config error: design.Lb = 5.0: out of range"),
+    (["simulate", "missing.yaml"], "aero-env: file error: config file 'missing.yaml': not found"),
+    (["simulate", str(PAPER), "--plot", "p.xyz"], "aero-env: error: --plot 'p.xyz': suffix '.xyz'"),
+    (["simulate", str(PAPER), "--set", "design.Lb"], "aero-env: error: --set 'design.Lb': expected KEY=VALUE"),
+])
+def test_a_refusal_names_its_kind_an_option_a_file_or_a_config_value(argv, start, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr("aero_env.simulation.simulate", no_work)
+    assert one_line_error(capsys, main(argv)).startswith(start)
 
 
 def test_a_folder_given_as_config_is_named(capsys):

@@ -125,12 +125,32 @@ def test_two_workers_share_a_sqlite_study(short_row, tmp_path):
 
 @pytest.fixture
 def postgres_url():
-    """A real PostgreSQL server on loopback; fails (never skips) where PostgreSQL is not installed."""
+    """A real PostgreSQL server on loopback; fails (never skips) where PostgreSQL is not installed or will not start,
+    with the one line that says why (no traceback)."""
     try:
         with postgres_server() as url:
             yield url
+            return
     except PostgresMissing as exc:
-        pytest.fail(str(exc))
+        why = str(exc)
+    pytest.fail(why, pytrace=False)
+
+
+def test_a_missing_or_failing_postgresql_is_one_line(monkeypatch):
+    from . import postgres_server as pg
+
+    monkeypatch.setattr(pg.shutil, "which", lambda name: None)
+    monkeypatch.setattr(pg.glob, "glob", lambda pattern: [])
+    with pytest.raises(PostgresMissing) as missing:
+        pg.find_bin("initdb")
+    assert str(missing.value).startswith("PostgreSQL's initdb was not found") and "\n" not in str(missing.value)
+    monkeypatch.setattr(pg, "find_bin", lambda name: "false")  # a server program that fails at once
+    monkeypatch.setattr(pg.shutil, "which", lambda name: "/usr/sbin/runuser")
+    with pytest.raises(PostgresMissing) as failing:
+        with pg.postgres_cluster():
+            pass
+    line = str(failing.value)
+    assert line.startswith("PostgreSQL would not start: false UTF8 exited 1") and "\n" not in line, line
 
 
 def test_two_workers_share_a_postgresql_study(short_row, postgres_url):

@@ -29,6 +29,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import math
+import os
 
 import gymnasium as gym
 import numba
@@ -140,7 +141,9 @@ def fidelity_rows(cfg: Config, designs: np.ndarray, episodes: int, batch: int, r
     for name in FIDELITY_PRESETS:
         rows.append(_single_row(_fidelity(cfg, name), designs[:episodes], repeats, seed))
     pool_fidelity = cfg.sim.fidelity if cfg.sim.model != REDUCED else BASELINE
-    rows.append(_vector_row(_fidelity(cfg, pool_fidelity), designs[:episodes], repeats, seed, pool_workers))
+    # the pool asked for explicitly (the vector env's default runs in this process): None, one process per core
+    rows.append(_vector_row(_fidelity(cfg, pool_fidelity), designs[:episodes], repeats, seed,
+                            pool_workers or os.cpu_count() or 1))
     _ratios(rows)
     return rows
 

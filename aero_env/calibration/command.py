@@ -20,7 +20,7 @@ from ..config import Config, ConfigError
 from ..scene_args import check_output, whole_number
 from . import report
 from .fit import check_box, fit, parse_fits, require_optuna
-from .measured import load_measured
+from .measured import MeasuredSwing, load_measured
 from .targets import load_targets
 
 DEFAULT_SWING = 1  # the first swing entered from a flight: the one the paper measures (Sec. 7.3)
@@ -35,7 +35,8 @@ def register(sub, scene_command) -> None:
     cp = scene_command(sub, "calibrate", "fit the model's unknowns to a measured swing (--trace) or to the "
                                          "paper's figures (--targets)")
     cp.add_argument("--trace", metavar="FILE.csv", help="a measured swing: columns t (s, 0 at the catch), theta1_deg, "
-                    "optional theta2_deg, rows until the slip-off (a Kinovea export)")
+                    "optional theta2_deg, rows until the slip-off (a Kinovea export); or a whole run written by "
+                    "aero-env simulate --trace (the --swing's rows are taken)")
     cp.add_argument("--targets", metavar="FILE.yaml", help="figures with tolerances, e.g. configs/paper_targets.yaml")
     cp.add_argument("--fit", action="append", metavar="KEY=LOW:HIGH",
                     help="a real-valued design or scene key and its search range (repeatable; one key: grid + "
@@ -63,6 +64,8 @@ def cmd_calibrate(args) -> int:
     keys = parse_fits(args.fit)
     check_box(cfg, keys)
     swing = _swing(args.swing, reference, cfg)
+    if isinstance(reference, MeasuredSwing):
+        reference = reference.swing_of(swing)  # a whole run (simulate --trace): that swing's rows
     _check_traceable(cfg)
     if len(keys) > 1:
         require_optuna()

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import functools
+import os
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterable, Mapping
@@ -62,6 +64,12 @@ def episode_info(run: dict, episode: Episode, draw: Draw) -> dict:
     info = {k: v for k, v in run.items() if k != "wall_time"}
     info.update(design=episode.design, context=dict(draw.context), as_built=episode.as_built)
     return info
+
+
+def _no_display() -> bool:
+    """A Linux machine without a display to open, where no SDL video driver was chosen."""
+    return (sys.platform.startswith("linux") and not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY")
+            and not os.environ.get("SDL_VIDEODRIVER"))
 
 
 class AerialAcrobatEnv(gym.Env):
@@ -175,7 +183,11 @@ class AerialAcrobatEnv(gym.Env):
     picture (its final pose, the hook's path, the outcome). ``rgb_array_list``: every frame of
     the last run's animation. ``human``: plays that animation in a pygame window, during
     ``step``. Frames are ``(env.render_height, env.render_width, 3)`` uint8; animations play
-    ``env.render_slowmo`` times slower than real time at ``metadata["render_fps"]``.
+    ``env.render_slowmo`` times slower than real time at ``metadata["render_fps"]``. Only
+    ``human`` touches pygame's display; on a Linux machine with no display (neither ``DISPLAY``
+    nor ``WAYLAND_DISPLAY``, and no ``SDL_VIDEODRIVER`` chosen) it draws into SDL's ``dummy``
+    driver with one warning, instead of SDL's own errors (``XDG_RUNTIME_DIR is invalid``):
+    Gymnasium's ``check_env`` opens every declared mode, ``human`` included.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": ANIMATION_FPS}
@@ -264,6 +276,10 @@ class AerialAcrobatEnv(gym.Env):
         import pygame
 
         if self._window is None:
+            if _no_display():
+                gym.logger.warn("render_mode='human' with no display (DISPLAY and WAYLAND_DISPLAY unset): nothing is "
+                                "shown (SDL's dummy driver); use render_mode='rgb_array' for frames")
+                os.environ["SDL_VIDEODRIVER"] = "dummy"  # else SDL tries Wayland and X11 and prints why each failed
             pygame.display.init()  # display only: pygame.init() would also open the sound card
             pygame.display.set_caption("aero-env: aerial acrobat")
             self._window = pygame.display.set_mode(self._size())

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
-import os
+import multiprocessing
+import re
+import sys
 from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from multiprocessing import get_context
 from pathlib import Path
 from typing import Any, Mapping
@@ -28,6 +31,9 @@ MAX_NUM_ENVS = 1_000_000  # designs per step; past this one step's configs alone
 # spawn, as AsyncVectorEnv and SB3's SubprocVecEnv are started here: a forked child would inherit the
 # parent's threads (torch's, a numba kernel's) mid-state
 POOL_START_METHOD = "spawn"
+# spawn runs the calling script again in every worker before it takes any work: unguarded, the script's make_vec
+# would start a pool inside each worker, and the workers die
+GUARD = 'if __name__ == "__main__":'
 
 
 class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
@@ -38,10 +44,16 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
     runs one design per sub-env. At ``sim.fidelity: reduced`` the designs run in one call of the
     reduced model (:func:`aero_env.models.reduced.batch.reduced_batch`: the fields each episode sets go in as arrays, with no
     Config built per design); at a pymunk fidelity (mbd-fast,
-    mbd, mbd-fine, reference) a persistent pool of ``workers`` processes runs one design each, and
-    the results are gathered in sub-env order. Each run is a function of its config alone, so the
-    pool changes only the time: rewards, observations and infos equal those of ``num_envs`` single
-    envs with the same seeds, bit for bit (``tests/test_vector_env.py``).
+    mbd, mbd-fine, reference) the designs run one after another in this process, or, when
+    ``workers`` > 1 is asked for, in a persistent pool of ``workers`` processes, one design each,
+    gathered in sub-env order. Each run is a function of its config alone, so the pool changes
+    only the time: rewards, observations and infos equal those of ``num_envs`` single envs with
+    the same seeds, bit for bit (``tests/test_vector_env.py``).
+
+    The pool starts its processes with ``spawn``, which runs the calling script again in each of
+    them: a script that asks for ``workers`` must make the env under ``if __name__ == "__main__":``
+    (a script without that line is refused with one line saying so; without ``workers`` no
+    process is started and no guard is needed).
 
     ```python
     envs = gym.make_vec("aero_env/AerialAcrobat-v0", num_envs=256, vectorization_mode="vector_entry_point",
@@ -94,7 +106,7 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
     | ``num_envs``  | 1                | designs per step, in [1, ``MAX_NUM_ENVS``]                       |
     | ``config``    | None             | a YAML path or a :class:`Config`; None: the prototype            |
     | ``overrides`` | None             | dotted-key overrides (``{"scene.frames": 3}``)                   |
-    | ``workers``   | ``os.cpu_count()`` | pymunk fidelities: processes in the pool; 1 runs in this process; unused at ``reduced`` |
+    | ``workers``   | 1                | pymunk fidelities: processes in the pool (``os.cpu_count()``: one per core; needs the ``__main__`` guard); 1: this process, no pool; unused at ``reduced`` |
     | ``**kwargs``  |                  | more dotted-key overrides, as ``gym.make``                       |
 
     Actions are ``(num_envs, d)`` in the single env's box; a bad row raises ``ConfigError`` naming
@@ -135,11 +147,12 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         self._draws: list[Draw] = [self.space.nominal_draw()] * self.num_envs
         self._observations = self._observe()
         if not self.reduced and self.workers > 1:
+            _check_spawn_guard(self.workers)
             self._pool = ProcessPoolExecutor(min(self.workers, self.num_envs), mp_context=get_context(POOL_START_METHOD))
 
     def _check_workers(self, workers) -> int:
         if workers is None:
-            return os.cpu_count() or 1
+            return 1  # no pool unless asked for: a pool needs the script's __main__ guard
         if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
             raise ConfigError(f"workers = {workers!r}: must be a whole number >= 1 (processes in the pool; 1: none)")
         return int(workers)
@@ -256,4 +269,35 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
     def _simulate_each(self, cfgs: list[Config]) -> list:
         if self._pool is None:
             return [simulate(c) for c in cfgs]
-        return list(self._pool.map(simulate, cfgs))  # map keeps the sub-envs' order
+        try:
+            return list(self._pool.map(simulate, cfgs))  # map keeps the sub-envs' order
+        except BrokenProcessPool:
+            raise RuntimeError(f"the pool's worker processes ended before they returned a run: spawn runs this "
+                               f"script again in each worker, so make the env under {GUARD} (or leave out workers= to "
+                               f"run in this process); a worker killed for memory ends the same way") from None
+
+
+def _check_spawn_guard(workers: int) -> None:
+    """Refuse a pool that would die: inside a worker still re-running the script (the script made the env outside its
+    ``__main__`` guard), or asked for by a script that has no guard at all (spawn re-runs it in each worker)."""
+    if getattr(multiprocessing.current_process(), "_inheriting", False):
+        # the worker is importing the parent's script: one line on its stderr instead of multiprocessing's traceback
+        raise SystemExit(f"aero-env: error: workers = {workers}: this script made a pooled vector env outside "
+                         f"{GUARD}; the pool's workers re-run the script, so move that code under the guard")
+    script = _unguarded_script()
+    if script is not None:
+        raise ConfigError(f"workers = {workers}: {script} has no {GUARD} and the pool's workers (spawn) run it "
+                          f"again; put its code under that line, or leave out workers= to run in this process")
+
+
+def _unguarded_script() -> str | None:
+    """The main script's path when its source never compares ``__name__`` with ``"__main__"``; None for a guarded
+    script, an interactive session or a notebook (no file to re-run)."""
+    path = getattr(sys.modules.get("__main__"), "__file__", None)
+    if not path:
+        return None
+    try:
+        source = open(path, encoding="utf-8").read()
+    except (OSError, UnicodeDecodeError):
+        return None
+    return None if "__name__" in source and re.search(r"['\"]__main__['\"]", source) else path

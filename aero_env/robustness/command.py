@@ -1,10 +1,10 @@
 """``aero-env robustness``: does a design survive being built by hand?
 
-    aero-env robustness CONFIG [--draws N] [--seed S] [--tolerances FILE.yaml] [--workers W] [--json]
+    aero-env robustness CONFIG [--draws N] [--seed S] [--tolerances FILE.yaml] [--workers W] [--json] [--no-progress]
                                [--set KEY=VALUE ...]
 
 The tolerance file is read and checked before anything is simulated, so a bad file (or a bad
-count) ends with one ``config error`` line and exit status 2.
+count) ends with one line and exit status 2 (``file error:``, ``config error:``, or ``error:`` for an option).
 """
 
 from __future__ import annotations
@@ -28,20 +28,37 @@ def register(sub, scene_command) -> None:
                          "table (aero_env/robustness/tolerances.py)")
     rp.add_argument("--workers", type=int, default=DEFAULT_WORKERS,
                     help=f"processes (a spawn pool when > 1; results do not depend on it; default {DEFAULT_WORKERS})")
+    rp.add_argument("--no-progress", action="store_true", help="no progress bar")
     rp.set_defaults(func=cmd_robustness)
 
 
 class _Progress:
-    """'robustness: 37/135 runs' on stderr, rewritten in place; silent unless stderr is a terminal."""
+    """The finished runs on stderr, as ``aero-env tune`` shows its trials: a tqdm bar (where the ``tune`` or ``rl``
+    extra installed tqdm; else 'robustness: 37/135 runs' rewritten in place); stdout, and so ``--json``, stays
+    clean; nothing with ``--no-progress``. The bar starts at the first finished run, when the total is known."""
 
-    def __init__(self, stream=None):
-        self.stream = stream or sys.stderr
-        self.on = self.stream.isatty()
+    def __init__(self, enabled: bool = True, stream=None):
+        self.enabled, self.stream, self.bar = enabled, stream or sys.stderr, None
 
     def __call__(self, done: int, total: int) -> None:
-        if self.on:
-            end = "\n" if done == total else ""
-            print(f"\rrobustness: {done}/{total} runs", end=end, file=self.stream, flush=True)
+        if not self.enabled:
+            return
+        if self.bar is None:
+            try:
+                from tqdm import tqdm
+            except ImportError:  # the core install has no tqdm
+                end = "\n" if done == total else ""
+                print(f"\rrobustness: {done}/{total} runs", end=end, file=self.stream, flush=True)
+                return
+            self.bar = tqdm(total=total, desc="robustness", unit="run", dynamic_ncols=True, file=self.stream)
+        self.bar.update(done - self.bar.n)
+        if done == total:
+            self.close()
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
 
 
 def cmd_robustness(args) -> int:
@@ -56,7 +73,11 @@ def cmd_robustness(args) -> int:
     cfg = load_scene(args)
     check_against(cfg, tols)
     start = time.perf_counter()
-    study = assess(cfg, tols, draws=args.draws, seed=args.seed, workers=args.workers, progress=_Progress())
+    progress = _Progress(enabled=not args.no_progress)
+    try:
+        study = assess(cfg, tols, draws=args.draws, seed=args.seed, workers=args.workers, progress=progress)
+    finally:
+        progress.close()  # an interrupted run's bar ends its line before the one that says so
     report = summarize(study, wall_time=time.perf_counter() - start)
     print(json.dumps(report, indent=2) if args.json else table(report))
     return 0
