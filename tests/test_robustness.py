@@ -22,7 +22,7 @@ import aero_env.simulation
 from aero_env.cli import main
 from aero_env.config import load_config
 from aero_env.robustness import DEFAULT_TOLERANCES, Tol, assess, parse_tolerances
-from aero_env.robustness.command import _Progress
+from aero_env.robustness.progress import RunProgress
 from aero_env.robustness.draws import INVALID, build, draw_factors
 from aero_env.robustness.report import summarize, wilson
 from aero_env.robustness.tolerances import check_against
@@ -227,6 +227,6 @@ def test_the_table_and_the_progress_bar(tmp_path, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "tqdm", None)
     tty = SimpleNamespace(written=[])
     tty.write, tty.flush = tty.written.append, lambda: None
-    progress = _Progress(stream=tty)
+    progress = RunProgress("robustness", stream=tty)
     progress(1, 2), progress(2, 2)
     assert "".join(tty.written) == "\rrobustness: 1/2 runs\rrobustness: 2/2 runs\n"

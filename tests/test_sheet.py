@@ -155,22 +155,15 @@ def test_one_command_writes_the_sheet_and_its_template(tmp_path, capsys):
     assert "is a file; give a folder" in capsys.readouterr().err
 
 
-def test_the_sheets_builds_show_progress_on_a_terminal():
-    import io
-
-    from aero_env.sheet.command import _Progress
-
-    class Tty(io.StringIO):
-        def isatty(self):
-            return True
-
-    tty, pipe = Tty(), io.StringIO()
-    for stream in (tty, pipe):
-        bar = _Progress(stream)
-        for i in range(1, 4):
-            bar(i, 3)
-    assert tty.getvalue() == "\rsheet: 1/3 builds\rsheet: 2/3 builds\rsheet: 3/3 builds\n"
-    assert pipe.getvalue() == ""  # a pipe or a file gets no progress
+def test_the_sheets_builds_show_their_progress_on_stderr(tmp_path, capsys):
+    argv = ["sheet", str(PAPER), "--out", str(tmp_path / "kit"), "--draws", "3", *SHORT_ROW]
+    assert main(argv) == 0
+    out, err = capsys.readouterr()
+    done = re.findall(r"sheet: robustness: +100%.* (\d+)/(\d+) ", err)  # the bar ends with every run done
+    assert done and done[-1][0] == done[-1][1], err
+    assert out.startswith("wrote ") and len(out.splitlines()) == 1  # stdout keeps its one line
+    assert main([*argv, "--no-progress"]) == 0
+    assert capsys.readouterr().err == ""
 
 
 @pytest.mark.parametrize("out, needle", [("nodir/sheet.md", "does not exist"), ("sheet.txt", "suffix '.txt'")])

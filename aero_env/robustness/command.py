@@ -32,39 +32,11 @@ def register(sub, scene_command) -> None:
     rp.set_defaults(func=cmd_robustness)
 
 
-class _Progress:
-    """The finished runs on stderr, as ``aero-env tune`` shows its trials: a tqdm bar (where the ``tune`` or ``rl``
-    extra installed tqdm; else 'robustness: 37/135 runs' rewritten in place); stdout, and so ``--json``, stays
-    clean; nothing with ``--no-progress``. The bar starts at the first finished run, when the total is known."""
-
-    def __init__(self, enabled: bool = True, stream=None):
-        self.enabled, self.stream, self.bar = enabled, stream or sys.stderr, None
-
-    def __call__(self, done: int, total: int) -> None:
-        if not self.enabled:
-            return
-        if self.bar is None:
-            try:
-                from tqdm import tqdm
-            except ImportError:  # the core install has no tqdm
-                end = "\n" if done == total else ""
-                print(f"\rrobustness: {done}/{total} runs", end=end, file=self.stream, flush=True)
-                return
-            self.bar = tqdm(total=total, desc="robustness", unit="run", dynamic_ncols=True, file=self.stream)
-        self.bar.update(done - self.bar.n)
-        if done == total:
-            self.close()
-
-    def close(self) -> None:
-        if self.bar is not None:
-            self.bar.close()
-            self.bar = None
-
-
 def cmd_robustness(args) -> int:
     from ..scene_args import load_scene
     from .report import summarize, table
     from ..bench.designs import check_counts
+    from .progress import RunProgress
     from .study import assess
     from .tolerances import DEFAULT_TOLERANCES, check_against, load_tolerances
 
@@ -73,7 +45,7 @@ def cmd_robustness(args) -> int:
     cfg = load_scene(args)
     check_against(cfg, tols)
     start = time.perf_counter()
-    progress = _Progress(enabled=not args.no_progress)
+    progress = RunProgress("robustness", enabled=not args.no_progress)
     try:
         study = assess(cfg, tols, draws=args.draws, seed=args.seed, workers=args.workers, progress=progress)
     finally:

@@ -8,12 +8,11 @@ the counterbalance goes, the spring as the paper measures it, whether the design
 row, and its robustness: the share of hand-made builds (``aero-env robustness``'s tolerances)
 that still complete it. ``.svg``: the template to print and cut (``template.py``): every part at 1:1 and the stand to
 scale. The output path is checked before anything is simulated; the robustness builds show their
-progress on a terminal.
+progress on stderr (``--no-progress``: none).
 """
 
 from __future__ import annotations
 
-import sys
 import time
 from pathlib import Path
 
@@ -32,13 +31,15 @@ def register(sub, scene_command) -> None:
                     help=f"hand-made builds drawn for the robustness line of a .md sheet; 0 skips it "
                          f"(default {DEFAULT_DRAWS})")
     sp.add_argument("--seed", type=int, default=DEFAULT_SEED, help=f"seed of the draws (default {DEFAULT_SEED})")
+    sp.add_argument("--no-progress", action="store_true", help="no progress bar for the robustness builds")
     sp.set_defaults(func=cmd_sheet)
 
 
 SHEET_NAME, TEMPLATE_NAME = "sheet.md", "template.svg"
 
 
-def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str | None = None) -> str:
+def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str | None = None,
+             progress=None) -> str:
     from ..simulation import simulate
     from .parts import lines
 
@@ -47,7 +48,7 @@ def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str
     r = simulate(cfg)
     verdict = (f"**In the simulated world this design {'completes' if r.outcome == 'completed' else 'does not complete'} "
                f"its row**: {r.traversals} of {r.frames - 1} transfers ({r.outcome}: {r.reason}).")
-    return "\n".join([f"# Build sheet: {config_name}", "", verdict, "", robustness_line(cfg, config_name, draws, seed),
+    return "\n".join([f"# Build sheet: {config_name}", "", verdict, "", robustness_line(cfg, config_name, draws, seed, progress),
                       "",
                       *rows, "",
                       "Lengths are measured along the card; the model is 2D and sets no width but the spring "
@@ -56,14 +57,14 @@ def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str
                          "`aero-env sheet CONFIG --out DIR` writes this sheet with its template."), ""])
 
 
-def robustness_line(cfg: Config, config_name: str, draws: int, seed: int) -> str:
+def robustness_line(cfg: Config, config_name: str, draws: int, seed: int, progress=None) -> str:
     if draws == 0:
         return "Robustness: not assessed (`--draws 0`)."
     from ..robustness.report import wilson
     from ..robustness.study import assess
     from ..robustness.tolerances import DEFAULT_TOLERANCES
 
-    study = assess(cfg, DEFAULT_TOLERANCES, draws, seed, progress=_Progress())
+    study = assess(cfg, DEFAULT_TOLERANCES, draws, seed, progress=progress)
     k = sum(r.traversals == study.full for r in study.runs)
     lo, hi = wilson(k, draws)
     return (f"Robustness: **{k} of {draws}** builds within a hand-made toy's tolerances complete the row "
@@ -71,19 +72,8 @@ def robustness_line(cfg: Config, config_name: str, draws: int, seed: int) -> str
             f"`aero-env robustness {config_name} --draws {draws} --seed {seed}` says which parts matter most).")
 
 
-class _Progress:
-    """'sheet: 12/55 builds' on stderr, rewritten in place; silent unless stderr is a terminal."""
-
-    def __init__(self, stream=None):
-        self.stream = stream or sys.stderr
-        self.on = self.stream.isatty()
-
-    def __call__(self, done: int, total: int) -> None:
-        if self.on:
-            print(f"\rsheet: {done}/{total} builds", end="\n" if done == total else "", file=self.stream, flush=True)
-
-
 def cmd_sheet(args) -> int:
+    from ..robustness.progress import RunProgress
     from ..scene_args import check_output, check_output_dir, load_scene
     from .template import svg
 
@@ -97,16 +87,17 @@ def cmd_sheet(args) -> int:
         raise ConfigError(f"--draws {args.draws}: must be a whole number >= 0 (0 skips the robustness line)")
     cfg = load_scene(args)
     t0 = time.perf_counter()
+    progress = RunProgress("sheet: robustness", enabled=not args.no_progress)
     if folder:
         out.mkdir(parents=True, exist_ok=True)
         (out / TEMPLATE_NAME).write_text(svg(cfg))
-        (out / SHEET_NAME).write_text(markdown(cfg, args.config, args.draws, args.seed, template=TEMPLATE_NAME))
+        (out / SHEET_NAME).write_text(markdown(cfg, args.config, args.draws, args.seed, TEMPLATE_NAME, progress))
         written = f"{out / SHEET_NAME} and {out / TEMPLATE_NAME}"
     elif out.suffix == ".svg":
         out.write_text(svg(cfg))
         written = str(out)
     else:
-        out.write_text(markdown(cfg, args.config, args.draws, args.seed))
+        out.write_text(markdown(cfg, args.config, args.draws, args.seed, progress=progress))
         written = str(out)
     print(f"wrote {written} in {time.perf_counter() - t0:.1f} s")
     return 0
