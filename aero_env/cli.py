@@ -271,12 +271,14 @@ def build_parser() -> argparse.ArgumentParser:
     sc = sub.add_parser("schema", help="print the config schema as a Markdown table")
     sc.set_defaults(func=cmd_schema)
     from .bench.commands import register as register_bench
+    from .bench.scenes import register as register_scenes
     from .calibration.command import register as register_calibrate
     from .limit_cycle.command import register as register_cycle
     from .robustness.command import register as register_robustness
     from .sheet.command import register as register_sheet
 
-    for register in (register_bench, register_calibrate, register_cycle, register_robustness, register_sheet):
+    for register in (register_bench, register_calibrate, register_cycle, register_robustness, register_scenes,
+                     register_sheet):
         register(sub, _scene_command)
     for entry in sorted(entry_points(group="aero_env.commands"), key=lambda e: e.name):
         entry.load()(sub, _scene_command)
