@@ -323,7 +323,8 @@ def comparison_line(result: TuneResult) -> str | None:
 def summary_lines(result: TuneResult) -> list[str]:
     first = ("no trial traversed the whole row" if result.first_full_row_trial is None
              else f"the whole row first at trial {result.first_full_row_trial}")
-    if result.start_trial is not None and result.first_full_row_trial is None:
+    if (result.first_full_row_trial is None and result.start_trial is not None
+            and min(result.start_traversals) >= result.full_row):
         first = "no trial besides the config's own design traversed the whole row"
     per = f"per build ({result.robust} builds)" if result.robust else "per seed"
     lines = [f"study {result.study!r} ({redact(result.storage)}): {result.trials} trials, {result.trials_run} run "

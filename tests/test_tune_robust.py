@@ -92,3 +92,18 @@ def test_robust_must_be_a_whole_number(tmp_path, value):
     assert done.returncode == 2
     assert done.stderr.count("\n") == 1 and f"--robust {value if value == '-1' else repr(value)}" in done.stderr
     assert "[0, 10000]" in done.stderr and not db.exists()  # refused before any study was made
+
+
+def test_the_summary_says_who_traversed_the_whole_row():
+    from agents.tune import TuneResult, summary_lines
+
+    base = dict(study="s", storage="memory", sampler="cmaes", trials=3, trials_run=3, best_reward=5.5, best_design={},
+                best_action=[], best_trial=2, best_score=dict(rewards=[], traversals=[0, 7], outcomes=[]),
+                first_full_row_trial=None, full_row=7, wall_time=1.0, start_trial=0, start_reward=0.0,
+                start_traversals=[0, 0], improved=True)
+    assert summary_lines(TuneResult(**base))[1].endswith("; no trial traversed the whole row")
+    own_did = summary_lines(TuneResult(**{**base, "start_traversals": [7, 7]}))[1]
+    assert own_did.endswith("; no trial besides the config's own design traversed the whole row")
+    found = summary_lines(TuneResult(**{**base, "first_full_row_trial": 2}))
+    assert found[1].endswith("; the whole row first at trial 2")
+    assert found[2] == "best 3.5/7 (mean reward 5.50) vs the config's own 0/7 (0.00): trial 2 beats it"
