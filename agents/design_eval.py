@@ -108,9 +108,11 @@ class DesignEvaluator:
         """One name per action dimension: the tunable's field."""
         return [t.name for t in self.space.tunables]
 
-    def score(self, action) -> DesignScore:
-        if self.factors is not None:
-            return self.score_design(self.env.design_for(action))
+    def score(self, action, design: dict | None = None) -> DesignScore:
+        """The score of ``action``; with ``design`` (tunable and linked values, SI), of that design itself (the
+        config's own, exactly, where an action would round it: :meth:`score_design`)."""
+        if design is not None or self.factors is not None:
+            return self.score_design(self.env.design_for(action) if design is None else design)
         runs = []
         for seed in self.seeds if self.space.draws_anything else self.seeds[:1]:
             self.env.reset(seed=seed)

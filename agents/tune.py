@@ -29,6 +29,12 @@ and TPE read their state from the study's trials; another sampler would silently
 search inside it). Ctrl-C raises :class:`TuneInterrupted` carrying the best design of the trials
 finished so far; a study in a database keeps them and resumes by rerunning the same command.
 
+A new study's first trial is the config's own design (scored from its values, exactly); the best design is
+that one unless a trial earns a strictly higher mean reward, so a tune never ends worse than it started, and
+:class:`TuneResult` says whether a trial beat it (``improved``). With ``robust`` K > 0 every design is scored on
+the same K hand-made builds within :data:`aero_env.robustness.DEFAULT_TOLERANCES`, drawn once from ``seed``
+(:meth:`DesignEvaluator.score_design <agents.design_eval.DesignEvaluator.score_design>`).
+
 With one worker and a fixed ``seed`` a study is reproducible; with several, the order in which
 trials finish (and so what the sampler learns when) depends on timing.
 
@@ -267,10 +273,10 @@ def best_config(cfg: Config, result: TuneResult) -> Config:
 
 def write_best_yaml(cfg: Config, result: TuneResult, path: str | Path) -> None:
     """The tuned design as a complete config that ``load_config`` reads back."""
-    kept = " the config's own design: no trial beat it;" if result.improved is False else ""
+    kept = ", the config's own design: no trial beat it" if result.improved is False else ""
     per = f"per build ({result.robust} builds)" if result.robust else "per seed"
     header = (f"# Tuned by `aero-env tune` ({result.sampler}, study {result.study!r}, trial {result.best_trial} "
-              f"of {result.trials}):{kept}\n# mean reward {result.best_reward:.4g}, traversals {per} "
+              f"of {result.trials}{kept}):\n# mean reward {result.best_reward:.4g}, traversals {per} "
               f"{result.best_score['traversals']} of {result.full_row}.\n")
     Path(path).write_text(header + best_config(cfg, result).to_yaml())
 

@@ -50,7 +50,7 @@ def objective_for(evaluator: DesignEvaluator, worker: str, target: int | None = 
         action = np.array([trial.suggest_float(n, -1.0, 1.0) for n in names])
         is_start = start is not None and trial.params == start  # enqueued (or queued again) as the start
         # the config's own design (enqueued first): scored from its values, exactly, not its action's rounding
-        score = evaluator.score_design(evaluator.start_design) if is_start else evaluator.score(action)
+        score = evaluator.score(action, evaluator.start_design if is_start else None)
         for key, value in score.to_json_dict().items():
             trial.set_user_attr(key, value)
         if is_start:
