@@ -46,6 +46,12 @@ def register(sub, scene_command) -> None:
                          "(reduced: one vectorised batch), then confirm the best --trials of them at the config's own "
                          f"fidelity; one of {', '.join(FIDELITY_PRESETS)} (absent: no screen)")
     tp.add_argument("--screen-designs", type=int, default=20000, metavar="M", help="designs the screen scores")
+    tp.add_argument("--robust", default="0", metavar="K",
+                    help="score each design as its mean reward over K hand-made builds within the default tolerances "
+                         "(aero_env/robustness/tolerances.py), the same K builds for every trial, drawn from --seed; "
+                         "composes with --seeds-per-design (K builds of each seed's episode); --screen ranks designs "
+                         "as drawn, without the builds, which only the confirmed trials are scored on "
+                         "(default 0: the design as drawn)")
     tp.add_argument("--reconnect", type=float, default=RECONNECT_S, metavar="SECONDS",
                     help="how long each process retries a lost database (bounded backoff) before the run stops; "
                          "rerunning the same command then resumes the study")
@@ -95,6 +101,14 @@ def _same_command() -> str:
     return shlex.join(["aero-env", *sys.argv[1:]])
 
 
+def _whole(text: str):
+    """A whole number given on the command line as an int; anything else as given, for the settings' check to name."""
+    try:
+        return int(text, 10)
+    except ValueError:
+        return text
+
+
 def cmd_tune(args) -> int:
     from .study_faults import StorageUnavailable, redact
     from .tune import TuneInterrupted, plot_history, summary_lines, tune, write_best_yaml
@@ -107,7 +121,8 @@ def cmd_tune(args) -> int:
     settings = TuneSettings(sampler=args.sampler, trials=args.trials, seeds_per_design=args.seeds_per_design,
                             seed=args.seed, storage=args.storage, study=args.study, workers=args.workers,
                             progress=not args.no_progress, screen=args.screen,
-                            screen_designs=args.screen_designs, reconnect_s=args.reconnect).check()
+                            screen_designs=args.screen_designs, reconnect_s=args.reconnect,
+                            robust=_whole(args.robust)).check()
     cfg = load_scene(args)
     try:
         result = tune(cfg, settings, config_name=Path(args.config).stem)

@@ -270,6 +270,7 @@ def load_study(cfg: Config, settings: TuneSettings, storage, name: str, sampler)
         study.set_user_attr("config", cfg.to_dict())
         study.set_user_attr("seeds_per_design", settings.seeds_per_design)
         study.set_user_attr("sampler", settings.sampler)
+        study.set_user_attr("robust", settings.robust)
     elif made_with is not None and made_with != settings.sampler:
         raise ConfigError(f"--sampler {settings.sampler}: study {name!r} was run with --sampler {made_with}; "
                           f"resume it with --sampler {made_with}, or give a new --study name")
@@ -279,6 +280,9 @@ def load_study(cfg: Config, settings: TuneSettings, storage, name: str, sampler)
     elif study.user_attrs.get("seeds_per_design") != settings.seeds_per_design:
         raise ConfigError(f"--seeds-per-design {settings.seeds_per_design}: study {name!r} scores designs on "
                           f"{study.user_attrs.get('seeds_per_design')} seeds; its rewards would not compare")
+    elif study.user_attrs.get("robust", 0) != settings.robust:
+        raise ConfigError(f"--robust {settings.robust}: study {name!r} scores designs on "
+                          f"{study.user_attrs.get('robust', 0)} hand-made builds; its rewards would not compare")
     return study
 
 

@@ -29,6 +29,12 @@ and TPE read their state from the study's trials; another sampler would silently
 search inside it). Ctrl-C raises :class:`TuneInterrupted` carrying the best design of the trials
 finished so far; a study in a database keeps them and resumes by rerunning the same command.
 
+A new study's first trial is the config's own design (scored from its values, exactly); the best design is
+that one unless a trial earns a strictly higher mean reward, so a tune never ends worse than it started, and
+:class:`TuneResult` says whether a trial beat it (``improved``). With ``robust`` K > 0 every design is scored on
+the same K hand-made builds within :data:`aero_env.robustness.DEFAULT_TOLERANCES`, drawn once from ``seed``
+(:meth:`DesignEvaluator.score_design <agents.design_eval.DesignEvaluator.score_design>`).
+
 With one worker and a fixed ``seed`` a study is reproducible; with several, the order in which
 trials finish (and so what the sampler learns when) depends on timing.
 
@@ -52,6 +58,7 @@ import numpy as np
 from aero_env.config import Config
 from aero_env.design_space import DesignSpace
 
+from .design_eval import start_params
 from .study_faults import Reconnect, is_db_error, redact
 from .study_storage import complete_trials, fail_dead_trials, load_study, make_sampler, open_storage, release_orphans
 from .tune_settings import TuneSettings
@@ -76,6 +83,13 @@ class TuneResult:
     history: list = field(default_factory=list)   # (trial number, value) in trial order
     screen: dict | None = None        # the multi-fidelity screen: fidelity, designs, wall_time, scores
     fidelity: str = "mbd"             # the fidelity every trial was scored at
+    start_trial: int | None = None    # the trial that scored the config's own design (None: a study without one)
+    start_reward: float | None = None  # ... its mean reward
+    start_traversals: list | None = None  # ... its traversals per seed (per build with robust)
+    improved: bool | None = None      # whether a trial beat the config's design (strictly higher mean reward)
+    robust: int = 0                   # hand-made builds each design was scored on (0: none)
+    best_robust_full: int | None = None   # robust: runs of the best design that completed the whole row
+    start_robust_full: int | None = None  # ... of the config's own design, on the same builds
 
     def to_json_dict(self) -> dict:
         d = asdict(self)
@@ -102,7 +116,11 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
     lost for longer than ``settings.reconnect_s`` raises :class:`StorageUnavailable`. Either way the
     study resumes by calling this again."""
     settings.check()
-    DesignSpace(cfg)  # a design problem that cannot be posed is refused before a study is opened or made
+    space = DesignSpace(cfg)  # a design problem that cannot be posed is refused before a study is opened or made
+    if settings.robust:
+        from aero_env.robustness.tolerances import DEFAULT_TOLERANCES, check_against
+
+        check_against(cfg, DEFAULT_TOLERANCES)
     url = settings.resolved_storage()
     name = settings.study_name(config_name)
     storage = open_storage(url)
@@ -111,11 +129,18 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
     t0 = time.perf_counter()
     workers: list[dict] = []
     try:
-        if settings.screen and not study.trials:
-            screened = screen(cfg, settings)
-            for action in screened.pop("actions"):
-                study.enqueue_trial({t.name: float(a) for t, a in zip(cfg.tunable, action)})
-            study.set_user_attr("screen", screened)
+        if not study.trials:  # a fresh study starts from the config's own design (not again on resume)
+            start = start_params(space)
+            if start is None:
+                print("aero-env tune: the config's own design lies outside its tunable ranges: the study starts "
+                      "without it", file=sys.stderr, flush=True)
+            else:
+                study.enqueue_trial(start)
+            if settings.screen:
+                screened = screen(cfg, settings, slots=settings.trials - (start is not None))
+                for action in screened.pop("actions"):
+                    study.enqueue_trial({t.name: float(a) for t, a in zip(cfg.tunable, action)})
+                study.set_user_attr("screen", screened)
         failed = reconnect(lambda: fail_dead_trials(study))  # resuming: not after the heartbeat's grace
         if failed:
             print(f"aero-env tune: trial(s) {', '.join(map(str, failed))} were left RUNNING by processes gone from "
@@ -147,9 +172,10 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
     return reconnect(lambda: _result(cfg, study, settings, url, name, wall, workers))
 
 
-def screen(cfg: Config, settings: TuneSettings) -> dict:
+def screen(cfg: Config, settings: TuneSettings, slots: int | None = None) -> dict:
     """Score ``screen_designs`` random designs at fidelity ``screen`` on the evaluator's episode draws;
-    the best ``trials`` actions first. One vectorised batch when the fidelity is ``reduced``. A design's
+    the best ``slots`` (default ``trials``) actions first. The design is scored as drawn: ``robust`` builds are
+    not screened, only confirmed. One vectorised batch when the fidelity is ``reduced``. A design's
     score is the mean env reward over the draws (:mod:`aero_env.reward`, shaping included), what
     ``env.step`` would pay at that fidelity, so the screen ranks by the study's own objective."""
     from gymnasium.utils import seeding
@@ -174,7 +200,7 @@ def screen(cfg: Config, settings: TuneSettings) -> dict:
         cfgs = [space.episode_config(v, d)[0] for v in values for d in draws]
         paid = np.array([reward(simulate(c), c) for c in cfgs])
     scores = paid.reshape(len(actions), len(draws)).mean(axis=1)
-    order = np.argsort(-scores, kind="stable")[:settings.trials]  # ties: in draw order (seeded)
+    order = np.argsort(-scores, kind="stable")[:settings.trials if slots is None else slots]  # ties: in draw order (seeded)
     full_row = cfg.scene.frames - 1
     return dict(fidelity=settings.screen, designs=len(actions), seeds=len(draws),
                 wall_time=time.perf_counter() - t0, best_score=float(scores.max()),
@@ -188,8 +214,12 @@ def _result(cfg, study, settings, url, name, wall, workers) -> TuneResult:
     if not done:
         raise RuntimeError(f"study {name!r} has no completed trial")
     best = max(done, key=lambda t: (t.value, -t.number))  # the first trial to reach the best value
+    start = next((t for t in done if t.user_attrs.get("start")), None)
+    if start is not None and not best.value > start.value:
+        best = start  # nothing beat the config's own design: it stays the best, never a design that only ties it
     full_row = cfg.scene.frames - 1
-    first_full = next((t.number for t in done if min(t.user_attrs["traversals"]) >= full_row), None)
+    first_full = next((t.number for t in done if t is not start and min(t.user_attrs["traversals"]) >= full_row),
+                      None)
     return TuneResult(study=name, storage=url, sampler=settings.sampler, trials=len(done),
                       trials_run=sum(len(w["trials"]) for w in workers), best_reward=float(best.value),
                       best_design=dict(best.user_attrs["design"]), best_trial=best.number,
@@ -197,7 +227,15 @@ def _result(cfg, study, settings, url, name, wall, workers) -> TuneResult:
                       best_score={k: best.user_attrs[k] for k in ("rewards", "traversals", "outcomes")},
                       first_full_row_trial=first_full, full_row=full_row, wall_time=wall, workers=workers,
                       history=[(t.number, float(t.value)) for t in done], screen=study.user_attrs.get("screen"),
-                      fidelity=cfg.sim.fidelity)
+                      fidelity=cfg.sim.fidelity,
+                      start_trial=None if start is None else start.number,
+                      start_reward=None if start is None else float(start.value),
+                      start_traversals=None if start is None else list(start.user_attrs["traversals"]),
+                      improved=None if start is None else best is not start,
+                      robust=settings.robust,
+                      best_robust_full=best.user_attrs.get("robust_full") if settings.robust else None,
+                      start_robust_full=(start.user_attrs.get("robust_full") if settings.robust and start is not None
+                                         else None))
 
 
 class _Progress:
@@ -235,8 +273,10 @@ def best_config(cfg: Config, result: TuneResult) -> Config:
 
 def write_best_yaml(cfg: Config, result: TuneResult, path: str | Path) -> None:
     """The tuned design as a complete config that ``load_config`` reads back."""
+    kept = ", the config's own design: no trial beat it" if result.improved is False else ""
+    per = f"per build ({result.robust} builds)" if result.robust else "per seed"
     header = (f"# Tuned by `aero-env tune` ({result.sampler}, study {result.study!r}, trial {result.best_trial} "
-              f"of {result.trials}):\n# mean reward {result.best_reward:.4g}, traversals per seed "
+              f"of {result.trials}{kept}):\n# mean reward {result.best_reward:.4g}, traversals {per} "
               f"{result.best_score['traversals']} of {result.full_row}.\n")
     Path(path).write_text(header + best_config(cfg, result).to_yaml())
 
@@ -261,13 +301,46 @@ def plot_history(result: TuneResult, path: str | Path, title: str = "") -> None:
     plt.close(fig)
 
 
+def _row(traversals, full_row: int) -> str:
+    """Traversals of the whole row reached, as 'k/N' (the mean over the runs where they differ)."""
+    return f"{float(np.mean(traversals)):.3g}/{full_row}"
+
+
+def comparison_line(result: TuneResult) -> str | None:
+    """The best design against the config's own design (None where the study has no trial of it)."""
+    if result.start_trial is None:
+        return None
+    f = result.full_row
+    if result.robust:
+        runs = len(result.best_score["traversals"])
+        share = lambda k: f"{100.0 * k / runs:.0f} %"
+        best = (f"best {_row(result.best_score['traversals'], f)} (robust {share(result.best_robust_full)}, mean "
+                f"reward {result.best_reward:.2f})")
+        own = (f"the config's {_row(result.start_traversals, f)} ({share(result.start_robust_full)}, "
+               f"{result.start_reward:.2f}) on the same {runs} builds")
+    else:
+        best = f"best {_row(result.best_score['traversals'], f)} (mean reward {result.best_reward:.2f})"
+        own = f"the config's own {_row(result.start_traversals, f)} ({result.start_reward:.2f})"
+    verdict = (f"trial {result.best_trial} beats it" if result.improved
+               else "kept the config's design (no trial beat it)")
+    return f"{best} vs {own}: {verdict}"
+
+
 def summary_lines(result: TuneResult) -> list[str]:
-    first = "never" if result.first_full_row_trial is None else f"at trial {result.first_full_row_trial}"
+    first = ("no trial traversed the whole row" if result.first_full_row_trial is None
+             else f"the whole row first at trial {result.first_full_row_trial}")
+    if (result.first_full_row_trial is None and result.start_trial is not None
+            and min(result.start_traversals) >= result.full_row):
+        first = "no trial besides the config's own design traversed the whole row"
+    per = f"per build ({result.robust} builds)" if result.robust else "per seed"
     lines = [f"study {result.study!r} ({redact(result.storage)}): {result.trials} trials, {result.trials_run} run "
              f"now in {result.wall_time:.1f} s ({result.sampler})",
-             f"best mean reward {result.best_reward:.4g} at trial {result.best_trial}; traversals per seed "
-             f"{result.best_score['traversals']} of {result.full_row}; the whole row first {first}",
-             "best design:"]
+             f"best mean reward {result.best_reward:.4g} at trial {result.best_trial}; traversals {per} "
+             f"{result.best_score['traversals']} of {result.full_row}; {first}"]
+    compared = comparison_line(result)
+    if compared:
+        lines.append(compared)
+    lines.append("best design:")
     lines += [f"  {k} = {v:.6g}" for k, v in result.best_design.items()]
     if result.screen:
         s = result.screen

@@ -28,11 +28,13 @@ class TuneSettings:
     screen: str | None = None       # a cheaper fidelity to screen random designs with (e.g. reduced)
     screen_designs: int = 20000     # designs the screen scores
     reconnect_s: float = RECONNECT_S  # a lost database is retried this long before the run stops
+    robust: int = 0                 # hand-made builds each design is scored on (0: the design as drawn, no builds)
 
     def check(self) -> "TuneSettings":
         check_choice("sampler", self.sampler, SAMPLERS)
         check_ints(self, (("trials", 1, 10**7), ("seeds_per_design", 1, 10**4), ("workers", 1, 512),
-                          ("seed", 0, 2**31 - 1), ("screen_designs", 1, 10**8)))
+                          ("seed", 0, 2**31 - 1), ("screen_designs", 1, 10**8),
+                          ("robust", 0, 10**4)))
         if (isinstance(self.reconnect_s, bool) or not isinstance(self.reconnect_s, (int, float))
                 or not 0 <= self.reconnect_s <= 86400):
             raise ConfigError(f"--reconnect {self.reconnect_s!r}: seconds in [0, 86400]")
@@ -58,3 +60,12 @@ class TuneSettings:
     def eval_seeds(self) -> tuple[int, ...]:
         """The episode seeds every design is scored on (the same for every trial and every tuning seed)."""
         return tuple(range(self.seeds_per_design))
+
+    def build_factors(self):
+        """``robust`` > 0: the (robust, tolerances) factors of the hand-made builds every trial is scored on, drawn
+        once from ``seed`` (common random numbers: the same builds for every trial and every worker); else None."""
+        if not self.robust:
+            return None
+        from .design_eval import robust_factors
+
+        return robust_factors(self.seed, self.robust)

@@ -43,13 +43,21 @@ def objective_for(evaluator: DesignEvaluator, worker: str, target: int | None = 
     WAITING) numbered before it, at its start or before it reports, is PRUNED as surplus: a study filled
     by several runs at once never ends with more than ``target`` COMPLETE trials."""
     names = evaluator.param_names
+    start = evaluator.start_params
 
     def objective(trial) -> float:
         _drop_surplus(trial, target)
         action = np.array([trial.suggest_float(n, -1.0, 1.0) for n in names])
-        score = evaluator.score(action)
+        is_start = start is not None and trial.params == start  # enqueued (or queued again) as the start
+        # the config's own design (enqueued first): scored from its values, exactly, not its action's rounding
+        score = evaluator.score(action, evaluator.start_design if is_start else None)
         for key, value in score.to_json_dict().items():
             trial.set_user_attr(key, value)
+        if is_start:
+            trial.set_user_attr("start", True)
+        if evaluator.factors is not None:  # the hand-made builds it was scored on (the same for every trial)
+            trial.set_user_attr("robust_factors", evaluator.factors.tolist())
+            trial.set_user_attr("robust_full", sum(t >= evaluator.full_row for t in score.traversals))
         trial.set_user_attr("worker", worker)
         _drop_surplus(trial, target)
         return score.mean_reward
@@ -83,7 +91,7 @@ def run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: i
     is gone stops after its trial."""
     optuna = import_optuna()
     S = optuna.trial.TrialState
-    evaluator = DesignEvaluator(cfg, settings.eval_seeds)
+    evaluator = DesignEvaluator(cfg, settings.eval_seeds, settings.build_factors())
     # each worker its own sampler stream: two processes with one seed would propose the same designs
     sampler = make_sampler(settings.sampler, settings.seed + 7919 * index)
     reconnect = Reconnect(settings.reconnect_s, f"worker w{index} (pid {os.getpid()})",

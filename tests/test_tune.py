@@ -52,12 +52,19 @@ def test_a_defeated_design_is_beaten_by_tuning(tmp_path):
     assert simulate(best).traversals == result.best_score["traversals"][0] == int(result.best_reward)
 
 
-def test_same_seed_same_study_different_seed_different_designs(short_row):
-    a = tune(short_row, TuneSettings(sampler="tpe", trials=8, seed=3, **QUIET))
-    b = tune(short_row, TuneSettings(sampler="tpe", trials=8, seed=3, **QUIET))
-    c = tune(short_row, TuneSettings(sampler="tpe", trials=8, seed=4, **QUIET))
-    assert history(a) == history(b) and a.best_design == b.best_design
-    assert a.best_design != c.best_design
+def test_same_seed_same_study_different_seed_different_designs(short_row, tmp_path):
+    import optuna
+
+    def designs(seed, study):  # every trial's design (the best may be the config's own for any seed)
+        url = f"sqlite:///{tmp_path / 's.db'}"
+        result = tune(short_row, TuneSettings(sampler="tpe", trials=8, seed=seed, storage=url, study=study, **QUIET))
+        trials = optuna.load_study(study_name=study, storage=url).trials
+        return result, [t.user_attrs["design"] for t in sorted(trials, key=lambda t: t.number)]
+
+    (a, da), (b, db), (c, dc) = designs(3, "a"), designs(3, "b"), designs(4, "c")
+    assert history(a) == history(b) and a.best_design == b.best_design and da == db
+    assert da[0] == dc[0]  # both start from the config's own design ...
+    assert da[1:] != dc[1:]  # ... and then propose others
 
 
 @pytest.mark.parametrize("sampler", ["cmaes", "random"])
@@ -221,11 +228,14 @@ def test_screening_enqueues_the_reduced_models_best_and_confirms_them_in_pymunk(
 
     result = tune(cfg, settings, "steep")
     assert result.fidelity == "mbd" and result.screen["fidelity"] == "reduced" and result.trials == 6
-    # the study's trials are the screened designs, in rank order, each scored in the pymunk world
-    assert [n for n, _ in result.history] == list(range(6))
+    # the study's trials are the config's own design, then the screened designs in rank order (as many as the
+    # trials leave room for), each scored in the pymunk world
+    assert [n for n, _ in result.history] == list(range(6)) and result.screen["enqueued"] == 5
     study = optuna.load_study(study_name="screened", storage=open_storage(settings.resolved_storage()))
-    params = [[tr.params[t.name] for t in cfg.tunable] for tr in sorted(study.trials, key=lambda tr: tr.number)]
-    assert np.allclose(params, screened["actions"])
+    trials = sorted(study.trials, key=lambda tr: tr.number)
+    params = [[tr.params[t.name] for t in cfg.tunable] for tr in trials]
+    assert trials[0].user_attrs["start"] and trials[0].user_attrs["design"]["design.m3"] == cfg.design.m3
+    assert np.allclose(params[1:], screened["actions"][:5])
     # resuming to 8 trials screens nothing again: the sampler proposes the 2 new ones
     more = tune(cfg, TuneSettings(**{**settings.__dict__, "trials": 8}), "steep")
     assert more.trials == 8 and more.trials_run == 2 and more.screen == result.screen
