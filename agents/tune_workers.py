@@ -108,6 +108,7 @@ def run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: i
             on_trial(study_, trial)
 
     def step() -> bool:  # False: the study is full
+        take_kept_interrupt()  # a Ctrl-C that landed in a garbage-collection callback stops here
         release_orphans(study, storage)
         fail_dead_trials(study)
         count = Counter(t.state for t in study.get_trials(deepcopy=False))
@@ -128,12 +129,37 @@ def run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: i
                   f"(its heartbeat was late); the design was queued again", file=sys.stderr, flush=True)
         return True
 
+    hook, sys.unraisablehook = sys.unraisablehook, keep_swallowed_interrupts
     try:
         while len(ran) < quota and (parent is None or os.getppid() == parent) and reconnect(step):
             pass
     finally:
+        sys.unraisablehook = hook
         evaluator.close()
     return ran
+
+
+# A Ctrl-C whose KeyboardInterrupt is raised while Python runs a garbage-collection callback (a weakref's, e.g.
+# SQLAlchemy's) cannot propagate: Python prints it as "Exception ignored in ..." with a traceback and goes on, and
+# the run would go on (a worker with Ctrl-C already ignored). While trials run, this hook keeps it instead, and
+# the next trial raises it.
+_KEPT_INTERRUPT = threading.Event()
+
+
+def keep_swallowed_interrupts(unraisable) -> None:
+    """``sys.unraisablehook`` while :func:`run_trials` runs: keep a KeyboardInterrupt Python could not raise (see above), without
+    a word; everything else as Python reports it."""
+    if isinstance(unraisable.exc_value, KeyboardInterrupt):
+        _KEPT_INTERRUPT.set()
+        return
+    sys.__unraisablehook__(unraisable)
+
+
+def take_kept_interrupt() -> None:
+    """Raise the KeyboardInterrupt :func:`keep_swallowed_interrupts` kept, once."""
+    if _KEPT_INTERRUPT.is_set():
+        _KEPT_INTERRUPT.clear()
+        raise KeyboardInterrupt
 
 
 def _interrupt_once(signum, frame):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -260,3 +261,28 @@ def test_a_design_problem_that_cannot_be_posed_is_refused_before_a_study_is_made
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "tunable[0].relative_to = 'design.h'" in err and not db.exists()
+
+
+def test_a_ctrl_c_swallowed_by_a_gc_callback_is_kept_for_the_workers_next_trial():
+    """A KeyboardInterrupt raised inside a weakref callback (where a worker's Ctrl-C can land while SQLAlchemy's
+    finalizers run) cannot propagate: Python prints "Exception ignored" with a traceback. A worker keeps it
+    silently and raises it at its next trial (agents/tune_workers.py)."""
+    script = """
+import sys, weakref
+from agents.tune_workers import keep_swallowed_interrupts, take_kept_interrupt
+sys.unraisablehook = keep_swallowed_interrupts
+class Thing: pass
+def finalizer(ref): raise KeyboardInterrupt
+t = Thing(); r = weakref.ref(t, finalizer); del t   # the callback runs, and its KeyboardInterrupt is swallowed
+print("went on")
+try:
+    take_kept_interrupt()
+except KeyboardInterrupt:
+    print("raised at the next trial")
+take_kept_interrupt()  # once only
+print("and only once")
+"""
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60,
+                         cwd=Path(__file__).resolve().parent.parent)
+    assert out.stdout.split("\n")[:3] == ["went on", "raised at the next trial", "and only once"], out
+    assert out.stderr == ""  # no "Exception ignored", no traceback
