@@ -183,3 +183,20 @@ class DesignSpace:
                 raise ConfigError(f"the design space reaches an invalid design at the corner ({where}"
                                   f"{', tolerances ' + str(draw.tolerance_u) if draw.tolerance_u else ''}): "
                                   f"{exc}") from None
+
+
+def _flat(d: dict, prefix: str = "") -> dict:
+    out = {}
+    for k, v in d.items():
+        out.update(_flat(v, f"{prefix}{k}.") if isinstance(v, dict) else {f"{prefix}{k}": v})
+    return out
+
+
+def changes_outside_tunables(cfg: Config, other: Config) -> list[str]:
+    """The design and scene keys in which ``other`` differs from ``cfg`` outside ``cfg``'s tunables (and the
+    keys linked to them): empty when ``other`` is only another design for ``cfg``'s scene and robot. A scene's
+    stored solution must be (``aero-env scenes``), and so must a design a sheet compares with."""
+    free = {t.name for t in cfg.tunable} | {k for t in cfg.tunable for k in t.linked}
+    a = _flat({k: cfg.to_dict()[k] for k in ("design", "scene")})
+    b = _flat({k: other.to_dict()[k] for k in ("design", "scene")})
+    return sorted(k for k in a.keys() | b.keys() if k not in free and a.get(k) != b.get(k))

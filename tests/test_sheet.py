@@ -175,3 +175,28 @@ def test_a_bad_out_is_refused_before_any_work(tmp_path, monkeypatch, capsys, out
     assert main(["sheet", str(PAPER), "--out", out]) == 2
     err = capsys.readouterr().err.strip()
     assert needle in err and len(err.splitlines()) == 1
+
+
+def test_the_sheet_compares_another_design_on_the_same_builds(tmp_path, capsys):
+    import json
+
+    from .conftest import ROOT
+
+    solution, scene = ROOT / "configs/scenes/solutions/six_coins.yaml", ROOT / "configs/scenes/six_coins.yaml"
+    out = tmp_path / "sheet.md"
+    assert main(["sheet", str(solution), "--out", str(out), "--draws", "3", "--seed", "4", "--compare", str(scene),
+                 "--no-progress"]) == 0
+    line = next(ln for ln in out.read_text().splitlines() if ln.startswith("Robustness:"))
+    capsys.readouterr()
+    # each design's share, as `aero-env robustness` counts it on the same seed's builds
+    counts = []
+    for path in (solution, scene):
+        assert main(["robustness", str(path), "--draws", "3", "--seed", "4", "--json", "--no-progress"]) == 0
+        counts.append(json.loads(capsys.readouterr().out)["completed"])
+    assert line.startswith(f"Robustness: **{counts[0]} of 3**")
+    assert line.endswith(f"The same 3 builds of {scene}: **{counts[1]} of 3** ({100 * counts[1] / 3:.0f} %).")
+    assert counts[0] > counts[1]  # the solution survives builds the prototype on six coins does not
+    # another robot is not another design
+    assert main(["sheet", str(solution), "--out", str(out), "--compare", str(ROOT / "configs/paper.yaml")]) == 2
+    assert "not the same scene and robot, only another design (design.coin_mass, design.m2 differ)" in \
+        capsys.readouterr().err

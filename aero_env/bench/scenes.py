@@ -27,6 +27,7 @@ from multiprocessing import get_context
 from pathlib import Path
 
 from ..config import ConfigError, load_config
+from ..design_space import changes_outside_tunables
 from .designs import check_counts, draw_designs
 
 DEFAULT_DIR = "configs/scenes"
@@ -62,22 +63,6 @@ def scene_paths(folder: str | os.PathLike) -> list[Path]:
 
 def solution_path(scene: Path) -> Path:
     return scene.parent / "solutions" / scene.name
-
-
-def _flat(d: dict, prefix: str = "") -> dict:
-    out = {}
-    for k, v in d.items():
-        out.update(_flat(v, f"{prefix}{k}.") if isinstance(v, dict) else {f"{prefix}{k}": v})
-    return out
-
-
-def changes_outside_tunables(scene_cfg, solved_cfg) -> list[str]:
-    """The design and scene keys a solution changed that the scene does not let search change: a solution
-    must answer the scene as posed, not a different one."""
-    free = {t.name for t in scene_cfg.tunable} | {k for t in scene_cfg.tunable for k in t.linked}
-    a = _flat({k: scene_cfg.to_dict()[k] for k in ("design", "scene")})
-    b = _flat({k: solved_cfg.to_dict()[k] for k in ("design", "scene")})
-    return sorted(k for k in a.keys() | b.keys() if k not in free and a.get(k) != b.get(k))
 
 
 def _traversals(cfg) -> tuple[int, str]:

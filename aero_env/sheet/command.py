@@ -31,6 +31,9 @@ def register(sub, scene_command) -> None:
                     help=f"hand-made builds drawn for the robustness line of a .md sheet; 0 skips it "
                          f"(default {DEFAULT_DRAWS})")
     sp.add_argument("--seed", type=int, default=DEFAULT_SEED, help=f"seed of the draws (default {DEFAULT_SEED})")
+    sp.add_argument("--compare", metavar="CONFIG.yaml",
+                    help="another design on the same scene (e.g. the one a robust tune started from): its share of "
+                         "the same hand-made builds is shown beside this design's")
     sp.add_argument("--no-progress", action="store_true", help="no progress bar for the robustness builds")
     sp.set_defaults(func=cmd_sheet)
 
@@ -39,7 +42,7 @@ SHEET_NAME, TEMPLATE_NAME = "sheet.md", "template.svg"
 
 
 def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str | None = None,
-             progress=None) -> str:
+             progress=None, compare: tuple[str, Config] | None = None) -> str:
     from ..simulation import simulate
     from .parts import lines
 
@@ -48,7 +51,7 @@ def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str
     r = simulate(cfg)
     verdict = (f"**In the simulated world this design {'completes' if r.outcome == 'completed' else 'does not complete'} "
                f"its row**: {r.traversals} of {r.frames - 1} transfers ({r.outcome}: {r.reason}).")
-    return "\n".join([f"# Build sheet: {config_name}", "", verdict, "", robustness_line(cfg, config_name, draws, seed, progress),
+    return "\n".join([f"# Build sheet: {config_name}", "", verdict, "", robustness_line(cfg, config_name, draws, seed, progress, compare),
                       "",
                       *rows, "",
                       "Lengths are measured along the card; the model is 2D and sets no width but the spring "
@@ -57,19 +60,30 @@ def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str
                          "`aero-env sheet CONFIG --out DIR` writes this sheet with its template."), ""])
 
 
-def robustness_line(cfg: Config, config_name: str, draws: int, seed: int, progress=None) -> str:
+def robustness_line(cfg: Config, config_name: str, draws: int, seed: int, progress=None,
+                    compare: tuple[str, Config] | None = None) -> str:
+    """The share of ``draws`` hand-made builds that complete the row; with ``compare`` (a name and a config on
+    the same scene), that design's share of the same builds beside it (the same seed draws the same errors)."""
     if draws == 0:
         return "Robustness: not assessed (`--draws 0`)."
     from ..robustness.report import wilson
     from ..robustness.study import assess
     from ..robustness.tolerances import DEFAULT_TOLERANCES
 
-    study = assess(cfg, DEFAULT_TOLERANCES, draws, seed, progress=progress)
-    k = sum(r.traversals == study.full for r in study.runs)
+    def completed(c: Config, bar) -> int:
+        study = assess(c, DEFAULT_TOLERANCES, draws, seed, progress=bar)
+        return sum(r.traversals == study.full for r in study.runs)
+
+    k = completed(cfg, progress)
     lo, hi = wilson(k, draws)
-    return (f"Robustness: **{k} of {draws}** builds within a hand-made toy's tolerances complete the row "
+    line = (f"Robustness: **{k} of {draws}** builds within a hand-made toy's tolerances complete the row "
             f"({100 * k / draws:.0f} %, 95 % interval {100 * lo:.0f}-{100 * hi:.0f} %; "
             f"`aero-env robustness {config_name} --draws {draws} --seed {seed}` says which parts matter most).")
+    if compare is None:
+        return line
+    name, other = compare
+    j = completed(other, progress and type(progress)(f"{progress.label} of --compare", progress.enabled))
+    return line + f" The same {draws} builds of {name}: **{j} of {draws}** ({100 * j / draws:.0f} %)."
 
 
 def cmd_sheet(args) -> int:
@@ -86,18 +100,31 @@ def cmd_sheet(args) -> int:
     if isinstance(args.draws, bool) or args.draws < 0:
         raise ConfigError(f"--draws {args.draws}: must be a whole number >= 0 (0 skips the robustness line)")
     cfg = load_scene(args)
+    compare = None
+    if args.compare is not None:
+        from ..config import load_config
+        from ..design_space import changes_outside_tunables
+
+        if not Path(args.compare).is_file():
+            raise ConfigError(f"--compare {args.compare!r}: no such config file")
+        other = load_config(args.compare)
+        differs = changes_outside_tunables(cfg, other)
+        if differs:
+            raise ConfigError(f"--compare {args.compare!r}: not the same scene and robot, only another design "
+                              f"({', '.join(differs[:4])}{' ...' if len(differs) > 4 else ''} differ)")
+        compare = (args.compare, other)
     t0 = time.perf_counter()
     progress = RunProgress("sheet: robustness", enabled=not args.no_progress)
     if folder:
         out.mkdir(parents=True, exist_ok=True)
         (out / TEMPLATE_NAME).write_text(svg(cfg))
-        (out / SHEET_NAME).write_text(markdown(cfg, args.config, args.draws, args.seed, TEMPLATE_NAME, progress))
+        (out / SHEET_NAME).write_text(markdown(cfg, args.config, args.draws, args.seed, TEMPLATE_NAME, progress, compare))
         written = f"{out / SHEET_NAME} and {out / TEMPLATE_NAME}"
     elif out.suffix == ".svg":
         out.write_text(svg(cfg))
         written = str(out)
     else:
-        out.write_text(markdown(cfg, args.config, args.draws, args.seed, progress=progress))
+        out.write_text(markdown(cfg, args.config, args.draws, args.seed, progress=progress, compare=compare))
         written = str(out)
     print(f"wrote {written} in {time.perf_counter() - t0:.1f} s")
     return 0
