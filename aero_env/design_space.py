@@ -76,8 +76,9 @@ class DesignSpace:
                     out[key] = self.cfg.value(key) * factor
         return out
 
-    def action_for(self, values: Mapping[str, float] | None = None) -> np.ndarray:
-        """The action (float32) whose design is ``values`` (by dotted key; missing keys: the config's value)."""
+    def action_for(self, values: Mapping[str, float] | None = None, dtype=np.float32) -> np.ndarray:
+        """The action (float32, the env's box; or ``dtype``) whose design is ``values`` (by dotted key; missing
+        keys: the config's value)."""
         values = dict(values or {})
         tuned = {t.name for t in self.tunables}
         for key in values:
@@ -85,7 +86,7 @@ class DesignSpace:
                 linked = [t.name for t in self.tunables if key in t.linked]
                 why = f"it follows {linked[0]} (linked)" if linked else "it is not tunable"
                 raise ConfigError(f"action_for: {key!r} cannot be chosen, {why}; tunable fields: {sorted(tuned)}")
-        a = np.empty(self.dim, dtype=np.float32)
+        a = np.empty(self.dim, dtype=dtype)
         for i, (t, (low, high)) in enumerate(zip(self.tunables, self.ranges)):
             v = float(values.get(t.name, self.cfg.value(t.name)))
             if not low <= v <= high:

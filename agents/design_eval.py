@@ -50,18 +50,11 @@ def robust_factors(seed: int, builds: int, tols: Sequence | None = None) -> np.n
 def start_params(space) -> dict[str, float] | None:
     """The config's own design as a trial's params (a float64 point of the action box, by field), or None where
     a config value lies outside its tunable range (the box cannot hold it)."""
-    import math
-
     try:
-        space.action_for()  # checks that every value lies in its range
+        action = space.action_for(dtype=np.float64)
     except ConfigError:
         return None
-    out = {}
-    for t, (low, high) in zip(space.tunables, space.ranges):
-        v = float(space.cfg.value(t.name))
-        x = math.log(v / low) / math.log(high / low) if t.scale == "log" else (v - low) / (high - low)
-        out[t.name] = min(1.0, max(-1.0, 2.0 * x - 1.0))
-    return out
+    return {t.name: min(1.0, max(-1.0, float(a))) for t, a in zip(space.tunables, action)}
 
 
 class DesignEvaluator:
