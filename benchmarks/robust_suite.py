@@ -20,7 +20,7 @@ from pathlib import Path
 
 from aero_env.bench.scenes import scene_paths, solution_path
 from aero_env.config import load_config
-from aero_env.robustness.study import assess
+from aero_env.robustness.study import completed_builds
 from aero_env.robustness.tolerances import DEFAULT_TOLERANCES
 from agents.tune import best_config, tune
 from agents.tune_settings import TuneSettings
@@ -29,12 +29,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def share(cfg, draws: int, seeds, workers: int) -> float:
-    done = total = 0
-    for seed in seeds:
-        study = assess(cfg, DEFAULT_TOLERANCES, draws, seed, workers=workers)
-        done += sum(r.traversals == study.full for r in study.runs)
-        total += draws
-    return done / total
+    done = sum(completed_builds(cfg, DEFAULT_TOLERANCES, draws, seed, workers=workers) for seed in seeds)
+    return done / (draws * len(seeds))
 
 
 def main() -> None:

@@ -63,10 +63,26 @@ def assess(cfg: Config, tols: Sequence[Tol], draws: int, seed: int = 0, workers:
     simulator = simulator or _default_simulator()
     ends = [(i, e) for i, t in enumerate(tols) if not t.zero for e in ENDS]
     singles = [single_change(cfg, tols, i, e) for i, e in ends]
-    factors = draw_factors(seed, draws, len(tols))
-    builds = [build(cfg, tols, row) for row in factors]
+    factors, builds = _draws(cfg, tols, draws, seed)
     nominal = Build({}, cfg)
     runs = run_builds([nominal, *singles, *builds], simulator, workers, progress)
     single_runs, draw_runs = runs[1:1 + len(singles)], runs[1 + len(singles):]
     changes = [SingleChange(tols[i], e, b, r) for (i, e), b, r in zip(ends, singles, single_runs)]
     return Study(cfg, tols, seed, factors, runs[0], changes, builds, draw_runs)
+
+
+def completed_builds(cfg: Config, tols: Sequence[Tol], draws: int, seed: int = 0, workers: int = 1,
+                     simulator: Callable | None = None, progress: Callable[[int, int], None] | None = None) -> int:
+    """How many of the ``draws`` random builds :func:`assess` draws with ``seed`` complete the row: those builds
+    alone, without the nominal run and the single changes, where only the share is wanted (a sheet's line)."""
+    tols = tuple(tols)
+    check_counts(draws=draws, workers=workers)
+    check_against(cfg, tols)
+    runs = run_builds(_draws(cfg, tols, draws, seed)[1], simulator or _default_simulator(), workers, progress)
+    return sum(r.traversals == cfg.scene.frames - 1 for r in runs)
+
+
+def _draws(cfg: Config, tols: tuple[Tol, ...], draws: int, seed: int) -> tuple[np.ndarray, list[Build]]:
+    """The factors of ``draws`` random builds drawn with ``seed``, and the builds they make."""
+    factors = draw_factors(seed, draws, len(tols))
+    return factors, [build(cfg, tols, row) for row in factors]

@@ -42,7 +42,7 @@ SHEET_NAME, TEMPLATE_NAME = "sheet.md", "template.svg"
 
 
 def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str | None = None,
-             progress=None, compare: tuple[str, Config] | None = None) -> str:
+             progress: bool = False, compare: tuple[str, Config] | None = None) -> str:
     from ..simulation import simulate
     from .parts import lines
 
@@ -60,21 +60,22 @@ def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str
                          "`aero-env sheet CONFIG --out DIR` writes this sheet with its template."), ""])
 
 
-def robustness_line(cfg: Config, config_name: str, draws: int, seed: int, progress=None,
+def robustness_line(cfg: Config, config_name: str, draws: int, seed: int, progress: bool = False,
                     compare: tuple[str, Config] | None = None) -> str:
     """The share of ``draws`` hand-made builds that complete the row; with ``compare`` (a name and a config on
-    the same scene), that design's share of the same builds beside it (the same seed draws the same errors)."""
+    the same scene), that design's share of the same builds beside it (the same seed draws the same errors).
+    ``progress``: a bar of the builds on stderr."""
     if draws == 0:
         return "Robustness: not assessed (`--draws 0`)."
+    from ..robustness.progress import RunProgress
     from ..robustness.report import wilson
-    from ..robustness.study import assess
+    from ..robustness.study import completed_builds
     from ..robustness.tolerances import DEFAULT_TOLERANCES
 
-    def completed(c: Config, bar) -> int:
-        study = assess(c, DEFAULT_TOLERANCES, draws, seed, progress=bar)
-        return sum(r.traversals == study.full for r in study.runs)
+    def completed(c: Config, label: str) -> int:
+        return completed_builds(c, DEFAULT_TOLERANCES, draws, seed, progress=RunProgress(label, progress))
 
-    k = completed(cfg, progress)
+    k = completed(cfg, "sheet: robustness")
     lo, hi = wilson(k, draws)
     line = (f"Robustness: **{k} of {draws}** builds within a hand-made toy's tolerances complete the row "
             f"({100 * k / draws:.0f} %, 95 % interval {100 * lo:.0f}-{100 * hi:.0f} %; "
@@ -82,12 +83,11 @@ def robustness_line(cfg: Config, config_name: str, draws: int, seed: int, progre
     if compare is None:
         return line
     name, other = compare
-    j = completed(other, progress and type(progress)(f"{progress.label} of --compare", progress.enabled))
+    j = completed(other, "sheet: robustness of --compare")
     return line + f" The same {draws} builds of {name}: **{j} of {draws}** ({100 * j / draws:.0f} %)."
 
 
 def cmd_sheet(args) -> int:
-    from ..robustness.progress import RunProgress
     from ..scene_args import check_output, check_output_dir, load_scene
     from .template import svg
 
@@ -114,7 +114,7 @@ def cmd_sheet(args) -> int:
                               f"({', '.join(differs[:4])}{' ...' if len(differs) > 4 else ''} differ)")
         compare = (args.compare, other)
     t0 = time.perf_counter()
-    progress = RunProgress("sheet: robustness", enabled=not args.no_progress)
+    progress = not args.no_progress
     if folder:
         out.mkdir(parents=True, exist_ok=True)
         (out / TEMPLATE_NAME).write_text(svg(cfg))
