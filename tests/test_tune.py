@@ -62,7 +62,7 @@ def test_same_seed_same_study_different_seed_different_designs(short_row, tmp_pa
         trials = optuna.load_study(study_name=study, storage=url).trials
         return result, [t.user_attrs["design"] for t in sorted(trials, key=lambda t: t.number)]
 
-    (a, da), (b, db), (c, dc) = designs(3, "a"), designs(3, "b"), designs(4, "c")
+    (a, da), (b, db), (_, dc) = designs(3, "a"), designs(3, "b"), designs(4, "c")
     assert history(a) == history(b) and a.best_design == b.best_design and da == db
     assert da[0] == dc[0]  # both start from the config's own design ...
     assert da[1:] != dc[1:]  # ... and then propose others

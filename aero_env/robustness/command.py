@@ -10,7 +10,6 @@ count) ends with one line and exit status 2 (``file error:``, ``config error:``,
 from __future__ import annotations
 
 import json
-import sys
 import time
 
 DEFAULT_DRAWS = 100
