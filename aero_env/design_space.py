@@ -131,6 +131,13 @@ class DesignSpace:
         tol = tuple(2.0 * float(x) - 1.0 for x in u[len(self.context):])
         return Draw(ctx, tol)
 
+    def draw_for_seed(self, seed: int) -> Draw:
+        """What ``env.reset(seed=seed)`` draws (Gymnasium seeds the env's generator this way), for scoring an
+        episode without the env."""
+        from gymnasium.utils import seeding
+
+        return self.draw(seeding.np_random(seed)[0])
+
     def nominal_draw(self) -> Draw:
         """The draw with every context at its config value (or range centre) and no tolerance error."""
         ctx = {c.name: self.cfg.value(c.name) if c.low is None else 0.5 * (c.low + c.high) for c in self.context}

@@ -120,14 +120,11 @@ class DesignEvaluator:
         """Score the design ``design`` (tunable and linked values, SI) on the seeds (and builds): what
         :meth:`score` does for an action, from the values themselves (the config's own design is scored exactly,
         not through an action's rounding)."""
-        from gymnasium.utils import seeding
-
         from aero_env.robustness.draws import build
 
         runs = []
         for seed in self.seeds if self.space.draws_anything else self.seeds[:1]:
-            draw = self.space.draw(seeding.np_random(seed)[0])  # what env.reset(seed=seed) draws
-            cfg = self.space.episode_config(design, draw)[0]
+            cfg = self.space.episode_config(design, self.space.draw_for_seed(seed))[0]
             if self.factors is None:
                 runs.append(_run(cfg))
                 continue

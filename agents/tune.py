@@ -178,8 +178,6 @@ def screen(cfg: Config, settings: TuneSettings, slots: int | None = None) -> dic
     not screened, only confirmed. One vectorised batch when the fidelity is ``reduced``. A design's
     score is the mean env reward over the draws (:mod:`aero_env.reward`, shaping included), what
     ``env.step`` would pay at that fidelity, so the screen ranks by the study's own objective."""
-    from gymnasium.utils import seeding
-
     from aero_env.reward import reward
     from aero_env.simulation import simulate
 
@@ -189,7 +187,7 @@ def screen(cfg: Config, settings: TuneSettings, slots: int | None = None) -> dic
     rng = np.random.default_rng(settings.seed)
     actions = rng.uniform(-1.0, 1.0, (settings.screen_designs, space.dim))
     seeds = settings.eval_seeds if space.draws_anything else settings.eval_seeds[:1]
-    draws = [space.draw(seeding.np_random(s)[0]) for s in seeds]  # what env.reset(seed=s) draws
+    draws = [space.draw_for_seed(s) for s in seeds]
     values = [space.values(a) for a in actions]
     if cheap.sim.model == "reduced":
         from aero_env.models.reduced.batch import reduced_batch

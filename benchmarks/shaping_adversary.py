@@ -178,11 +178,9 @@ def use_rule(rule: str) -> None:
 # ---- the three parts ----
 
 def survey(cfg: Config, designs: int, seed: int) -> dict:
-    from gymnasium.utils import seeding
-
     env = AerialAcrobatEnv(cfg)
     space = env.space
-    draw = space.draw(seeding.np_random(0)[0])  # what env.reset(seed=0) draws
+    draw = space.draw_for_seed(0)
     actions = np.random.default_rng(seed).uniform(-1.0, 1.0, (designs, space.dim))
     rows = collections.defaultdict(lambda: dict(runs=0, credited=0, max_credit=0.0, credited_before=0,
                                                 max_credit_before=0.0))
@@ -218,10 +216,8 @@ def adversary(cfg: Config, trials: int, seed: int) -> list:
 
 def audit_top(cfg: Config, trials: list, top: int) -> list[dict]:
     """Re-run the ``top`` best distinct trials (0: all; seed 0's draw) with their traces; audit each."""
-    from gymnasium.utils import seeding
-
     space = DesignSpace(cfg)
-    draw = space.draw(seeding.np_random(0)[0])  # what env.reset(seed=0) draws
+    draw = space.draw_for_seed(0)
     names = [t.name for t in cfg.tunable]
     seen, out = set(), []
     for tr in sorted(trials, key=lambda t: (-t.value, t.number)):

@@ -394,3 +394,15 @@ def test_the_last_run_is_public_with_its_trace_when_asked():
     assert traced.unwrapped.last_run is None
     with pytest.raises(ConfigError, match="env.record_trace = True: sim.fidelity = 'reduced'"):
         make(**{"env.record_trace": True, "sim.fidelity": "reduced"})
+
+
+def test_design_space_draw_for_seed_is_what_reset_draws():
+    # the tuner and the benchmarks score episodes without an env through DesignSpace.draw_for_seed: it must be the
+    # draw env.reset(seed=s) makes, on a scene that draws its context
+    env = gym.make("aero_env/AerialAcrobatVaried-v0")
+    space = env.unwrapped.space
+    for seed in (0, 1, 12345):
+        env.reset(seed=seed)
+        assert env.unwrapped._draw == space.draw_for_seed(seed)
+    assert space.draw_for_seed(0) != space.draw_for_seed(1)
+    env.close()

@@ -34,7 +34,6 @@ import os
 import gymnasium as gym
 import numba
 import numpy as np
-from gymnasium.utils import seeding
 
 from ..config import FIDELITY_PRESETS, Config
 from ..design_space import DesignSpace
@@ -109,7 +108,7 @@ def _model_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int) -> dic
     """The reduced model alone on one core: the episodes the vector env's reset(seed) and step(actions) run, as one
     ``reduced_batch`` call of their values (what the tuner's screen calls), without the env around it."""
     space, clip = DesignSpace(cfg), cfg.env.action_out_of_box == "clip"
-    episodes = [plan_episode(space, space.draw(seeding.np_random(seed + i)[0]), a, clip).values
+    episodes = [plan_episode(space, space.draw_for_seed(seed + i), a, clip).values
                 for i, a in enumerate(actions)]
     with _threads(1) as cores:
         first = median_time(lambda: reduced_batch(cfg, episodes), 1)[0]
