@@ -9,6 +9,7 @@ on Ctrl-C or a failure. Each records its name in the trials it ran (``user_attrs
 
 from __future__ import annotations
 
+import functools
 import multiprocessing as mp
 import os
 import queue as queue_mod
@@ -129,7 +130,8 @@ def run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: i
                   f"(its heartbeat was late); the design was queued again", file=sys.stderr, flush=True)
         return True
 
-    hook, sys.unraisablehook = sys.unraisablehook, keep_swallowed_interrupts
+    hook = sys.unraisablehook
+    sys.unraisablehook = functools.partial(keep_swallowed_interrupts, passed_on=hook)
     try:
         while len(ran) < quota and (parent is None or os.getppid() == parent) and reconnect(step):
             pass
@@ -146,13 +148,13 @@ def run_trials(cfg: Config, settings: TuneSettings, storage, name: str, quota: i
 _KEPT_INTERRUPT = threading.Event()
 
 
-def keep_swallowed_interrupts(unraisable) -> None:
-    """``sys.unraisablehook`` while :func:`run_trials` runs: keep a KeyboardInterrupt Python could not raise (see above), without
-    a word; everything else as Python reports it."""
+def keep_swallowed_interrupts(unraisable, passed_on: Callable | None = None) -> None:
+    """``sys.unraisablehook`` while :func:`run_trials` runs: keep a KeyboardInterrupt Python could not raise (see
+    above), without a word; pass everything else on to ``passed_on``, the hook it replaced (default: Python's)."""
     if isinstance(unraisable.exc_value, KeyboardInterrupt):
         _KEPT_INTERRUPT.set()
         return
-    sys.__unraisablehook__(unraisable)
+    (passed_on or sys.__unraisablehook__)(unraisable)
 
 
 def take_kept_interrupt() -> None:

@@ -281,8 +281,14 @@ except KeyboardInterrupt:
     print("raised at the next trial")
 take_kept_interrupt()  # once only
 print("and only once")
+import functools
+from agents.tune_workers import keep_swallowed_interrupts as keep
+sys.unraisablehook = functools.partial(keep, passed_on=lambda u: print("passed on", type(u.exc_value).__name__))
+def other(ref): raise ValueError
+t = Thing(); r = weakref.ref(t, other); del t  # anything else goes to the hook it replaced
 """
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60,
                          cwd=Path(__file__).resolve().parent.parent)
-    assert out.stdout.split("\n")[:3] == ["went on", "raised at the next trial", "and only once"], out
+    assert out.stdout.split("\n")[:4] == ["went on", "raised at the next trial", "and only once",
+                                           "passed on ValueError"], out
     assert out.stderr == ""  # no "Exception ignored", no traceback
