@@ -52,10 +52,11 @@ class DesignSpace:
         self.obs_dim = len(self.context)
         if self.obs_dim == 0:
             raise ConfigError("context: empty; the observation needs at least one field (e.g. scene.rise)")
-        for i, t in enumerate(self.tunables):
-            if t.linked and cfg.value(t.name) <= 0:  # checked here, not at load: simulate ignores tunables
-                raise ConfigError(f"tunable[{i}].linked: the links scale by {t.name} / its config value, which is "
-                                  f"{cfg.value(t.name)!r}; allowed only when that value is > 0")
+        for section, entries in (("tunable", self.tunables), ("context", self.context)):
+            for i, t in enumerate(entries):
+                if t.linked and cfg.value(t.name) <= 0:  # checked here, not at load: simulate ignores these lists
+                    raise ConfigError(f"{section}[{i}].linked: the links scale by {t.name} / its config value, which "
+                                      f"is {cfg.value(t.name)!r}; allowed only when that value is > 0")
         # each tunable's (low, high) in its field's unit, a relative range resolved on this config's values
         self.ranges = tuple(cfg.tunable_range(t) for t in self.tunables)
         self._check_corners()
@@ -70,11 +71,13 @@ class DesignSpace:
             v = low * (high / low) ** x if t.scale == "log" else low * (1.0 - x) + high * x
             v = min(max(v, low), high)  # rounding must never step outside the declared range
             out[t.name] = v
-            if t.linked:
-                factor = v / self.cfg.value(t.name)
-                for key in t.linked:
-                    out[key] = self.cfg.value(key) * factor
+            out.update(self._follow(t, v))
         return out
+
+    def _follow(self, leader, value: float) -> dict[str, float]:
+        """The values of ``leader``'s linked fields when it takes ``value``: each scaled by the same factor."""
+        factor = value / self.cfg.value(leader.name) if leader.linked else 1.0
+        return {key: self.cfg.value(key) * factor for key in leader.linked}
 
     def action_for(self, values: Mapping[str, float] | None = None, dtype=np.float32) -> np.ndarray:
         """The action (float32, the env's box; or ``dtype``) whose design is ``values`` (by dotted key; missing
@@ -152,10 +155,13 @@ class DesignSpace:
         return obs
 
     def episode_values(self, design: Mapping[str, float], draw: Draw) -> tuple[dict, dict]:
-        """Every field the episode sets (dotted keys, SI: the drawn context, the design, the tolerances as
-        built), and the fields the tolerances changed. The reduced model runs these without a Config
+        """Every field the episode sets (dotted keys, SI: the drawn context and the fields linked to it, the
+        design, the tolerances as built), and the fields the tolerances changed. The reduced model runs these without a Config
         (:func:`aero_env.models.reduced.simulate_designs`); :meth:`episode_config` builds one from them."""
-        values = {**draw.context, **design}
+        links = {}
+        for c in self.context:
+            links.update(self._follow(c, draw.context[c.name]))
+        values = {**draw.context, **links, **design}
         built = {}
         for t, u in zip(self.tolerances, draw.tolerance_u):
             v = values.get(t.name, self.cfg.value(t.name))

@@ -40,6 +40,9 @@ class ContextRange:
     name: str = _item("dotted key of a real-valued design or scene field, e.g. scene.rise")
     low: float | None = _item("lowest value drawn (absent: the config's value)", "field's")
     high: float | None = _item("highest value drawn (absent: the config's value)", "field's")
+    linked: tuple = _item("keys scaled by the same factor as this one, keeping their ratio to it "
+                          "(design.mu_k with a drawn design.mu_s: the card is drawn, not one coefficient)",
+                          default=())
 
 
 @dataclass(frozen=True)
@@ -124,6 +127,12 @@ def _tunable(entry, where, name, f) -> Tunable:
         raise ConfigError(f"{where}.scale = {scale!r}: must be one of ['linear', 'log']")
     if scale == "log" and low <= 0:
         raise ConfigError(f"{where}.low = {low!r}: a log scale needs low > 0, allowed (0, {high})")
+    return Tunable(name, low, high, scale, _linked(entry, where, name),
+                   None if relative_to is None else str(relative_to))
+
+
+def _linked(entry: Mapping, where: str, name: str) -> tuple:
+    """A tunable's or a context's ``linked`` keys: real fields other than its own."""
     linked = entry.get("linked", ()) or ()
     if isinstance(linked, str) or not isinstance(linked, (list, tuple)):
         raise ConfigError(f"{where}.linked = {linked!r}: must be a list of dotted keys, e.g. [design.mu_k]")
@@ -131,8 +140,7 @@ def _tunable(entry, where, name, f) -> Tunable:
         real_field(key, f"{where}.linked[{j}]")
         if key == name:
             raise ConfigError(f"{where}.linked[{j}] = {key!r}: a field cannot be linked to itself")
-    return Tunable(name, low, high, scale, tuple(str(k) for k in linked),
-                   None if relative_to is None else str(relative_to))
+    return tuple(str(k) for k in linked)
 
 
 def _factor(value: Any, where: str, relative_to: str) -> float:
@@ -147,12 +155,13 @@ def _context(entry, where, name, f) -> ContextRange:
     has_low, has_high = entry.get("low") is not None, entry.get("high") is not None
     if has_low != has_high:
         raise ConfigError(f"{where}: give both low and high (drawn uniformly at reset), or neither (fixed)")
+    linked = _linked(entry, where, name)
     if not has_low:
-        return ContextRange(name)
+        return ContextRange(name, linked=linked)
     low, high = _bound(entry, "low", where, name, f), _bound(entry, "high", where, name, f)
     if low > high:
         raise ConfigError(f"{where}.high = {high!r}: must be at least {where}.low = {low!r}")
-    return ContextRange(name, low, high)
+    return ContextRange(name, low, high, linked)
 
 
 def _tolerance(entry, where, name, f) -> Tolerance:

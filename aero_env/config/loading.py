@@ -173,15 +173,16 @@ def _check_design_problem(cfg: Config) -> None:
                               f"or is given it, not both")
     given = {c.name for c in cfg.context}
     leader: dict[str, str] = {}
-    for i, t in enumerate(cfg.tunable):
-        for key in t.linked:
-            if key in tuned or key in given:
-                raise ConfigError(f"tunable[{i}].linked: {key!r} is itself tunable or context; it cannot also follow "
-                                  f"{t.name}")
-            if key in leader:
-                raise ConfigError(f"tunable[{i}].linked: {key!r} already follows {leader[key]}; a field can follow "
-                                  f"one tunable only")
-            leader[key] = t.name
+    for section, entries in (("tunable", cfg.tunable), ("context", cfg.context)):
+        for i, t in enumerate(entries):
+            for key in t.linked:
+                if key in tuned or key in given:
+                    raise ConfigError(f"{section}[{i}].linked: {key!r} is itself tunable or context; it cannot also "
+                                      f"follow {t.name}")
+                if key in leader:
+                    raise ConfigError(f"{section}[{i}].linked: {key!r} already follows {leader[key]}; a field can "
+                                      f"follow one tunable or context only")
+                leader[key] = t.name
 
 
 def _deep_copy(x: Any) -> Any:
