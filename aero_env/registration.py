@@ -21,6 +21,26 @@ ENVIRONMENTS: dict[str, dict] = {
                     {"name": "design.m2", "low": 0.0065, "high": 0.009}],
         "tolerance": [{"name": "design.m3", "relative": 0.02}, {"name": "design.La", "absolute": 0.0003}],
     },
+    # The maker's contexts (configs/contexts.yaml): four things a maker knows before cutting card, each drawn
+    # wide enough that the design must follow it. The row's rise (0-10 mm a frame) and pitch (70-86 mm), the
+    # robot's mass (6.5-10 g) and the card pair's friction (gray/gray 0.283 to white/gray 0.542, mu_k at the
+    # pair's ratio), on a 5-frame row. The maker chooses the counterbalance, the spring and the handrail's
+    # distance Lb (which must follow the pitch); the build's cutting error is drawn and not observed. No
+    # single design completes the row on most of these contexts (docs/agents.md).
+    "aero_env/AerialAcrobatContexts-v0": {
+        "scene.frames": 5,
+        "context": [{"name": "scene.rise", "low": 0.0, "high": 0.010},
+                    {"name": "scene.pitch", "low": 0.070, "high": 0.086},
+                    {"name": "design.m2", "low": 0.0065, "high": 0.010},
+                    {"name": "design.mu_s", "low": 0.283, "high": 0.542, "linked": ["design.mu_k"]}],
+        "tunable": [{"name": "design.m3", "low": 0.5, "high": 1.6, "relative_to": "design.m2"},
+                    {"name": "design.h", "low": -0.2, "high": 0.4, "relative_to": "design.La"},
+                    {"name": "design.La", "low": 0.75, "high": 1.35, "relative_to": "design.La"},
+                    {"name": "design.spring_k", "low": 0.22, "high": 4.5, "scale": "log",
+                     "relative_to": "design.spring_k"},
+                    {"name": "design.Lb", "low": 0.8, "high": 1.3, "relative_to": "design.Lb"}],
+        "tolerance": [{"name": "design.m3", "relative": 0.02}, {"name": "design.La", "absolute": 0.0003}],
+    },
 }
 
 

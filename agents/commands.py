@@ -90,6 +90,9 @@ def register(sub, scene_command) -> None:
     ep.add_argument("--set", action="append", metavar="KEY=VALUE",
                     help="override a value of the scene evaluated on (repeatable), e.g. --set scene.frames=4 (not a context "
                          "field the scene draws: that is drawn at every reset)")
+    ep.add_argument("--against", metavar="FILE.yaml",
+                    help="also play this config's design (e.g. the best single design of a robust tune) on the same "
+                         "episodes, and report the policy against it")
     ep.add_argument("--json", action="store_true", help="print one JSON object instead of the summary")
     ep.set_defaults(func=cmd_evaluate)
 
@@ -204,13 +207,24 @@ def cmd_evaluate(args) -> int:
             if key in drawn:
                 raise ConfigError(f"--set {key}: the scene draws {key} at every reset (its context range), so a value "
                                   f"set here is never used; change the range with --set 'context=[...]' or a --config")
-    rep = evaluate(args.run_dir, episodes=args.episodes, seed=args.seed, config=scene)
+    against = None
+    if args.against:
+        from aero_env.config import load_config
+
+        against = load_config(args.against)
+    rep = evaluate(args.run_dir, episodes=args.episodes, seed=args.seed, config=scene, against=against)
     if args.json:
         print(json.dumps(rep, indent=2))
         return 0
     print(f"{rep['algo']} policy over {rep['episodes']} episodes (seeds {rep['seeds'][0]}..{rep['seeds'][1]}): "
           f"reward {rep['mean_reward']:.3f} ± {rep['std_reward']:.3f} (min {rep['min_reward']:g}, max "
           f"{rep['max_reward']:g}); whole row ({rep['full_row']}) in {100 * rep['full_row_fraction']:.0f} %")
+    if against is not None:
+        a = rep["against"]
+        gain = 100 * (rep["full_row_fraction"] - a["full_row_fraction"])
+        print(f"against {args.against} (one design for every episode): reward {a['mean_reward']:.3f} ± "
+              f"{a['std_reward']:.3f}; whole row in {100 * a['full_row_fraction']:.0f} %; the policy "
+              f"{gain:+.0f} points")
     print("outcomes: " + ", ".join(f"{k} {v}" for k, v in rep["outcomes"].items()))
     print("\n".join(design_table(rep)))
     return 0

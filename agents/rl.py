@@ -268,8 +268,11 @@ def _close(venv) -> None:
 
 
 def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool = False,
-          resume: bool = False) -> dict:
+          resume: bool = False, callbacks: list | None = None) -> dict:
     """Train a policy on ``cfg``'s scene and write the run's directory; returns run.json's content.
+
+    ``callbacks``: more SB3 callbacks to run beside the periodic evaluation (a benchmark's hold-out curve);
+    they only watch, so the policy learnt is the same with or without them.
 
     ``out`` must be new or empty unless ``overwrite`` (a previous run's files are removed first) or
     ``resume`` (go on with the run stopped there). Ctrl-C saves the run so far and raises
@@ -289,7 +292,7 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
     segment = before.get("segments", 1) if before else 0  # monitor files of resumed segments: r1-0, r2-0, ...
     venv = _vec_env(cfg, settings.n_envs, settings.seed + (1000 * segment), out, f"r{segment}-" if segment else "",
                     settings.vector)
-    callbacks = []
+    callbacks = list(callbacks or [])
     if settings.eval_every:
         eval_env = _vec_env(cfg, 1, settings.seed + EVAL_SEED_OFFSET, None)
         ev = EvalCallback(eval_env, n_eval_episodes=EVAL_EPISODES, log_path=str(out), verbose=0,
@@ -382,9 +385,15 @@ def load_run(run_dir: str | Path):
     return cls.load(run_dir / "model.zip", device="cpu"), load_config(run_dir / "config.yaml"), run
 
 
-def evaluate(run_dir: str | Path, episodes: int = 20, seed: int = 0, config: Config | None = None) -> dict:
+def evaluate(run_dir: str | Path, episodes: int = 20, seed: int = 0, config: Config | None = None,
+             against: Config | None = None) -> dict:
     """The deterministic policy's reward on ``episodes`` episode seeds ``seed, seed+1, ...``, and the design it
     chose for each episode's context (``per_episode``).
+
+    ``against``: a config holding one fixed design for the scene (e.g. the best single design a robust tune
+    wrote): its tunable fields are played on the same seeds, and ``against`` in the result reports its reward
+    and whole-row share beside the policy's. Its robot (``design``) may differ from the scene's only in the
+    tunable fields and the fields the scene draws; its ``scene`` section is not read.
 
     ``config``: another scene to evaluate on (default: the one it was trained on). It must pose the same
     design problem (:func:`_check_same_problem`): the same context, ranges included (the observation), and
@@ -400,23 +409,51 @@ def evaluate(run_dir: str | Path, episodes: int = 20, seed: int = 0, config: Con
     if env.observation_space != model.observation_space or env.action_space != model.action_space:
         raise ConfigError(f"the scene's spaces ({env.observation_space}, {env.action_space}) are not the policy's "
                           f"({model.observation_space}, {model.action_space})")
-    per_episode = []
+    fixed = None if against is None else fixed_design_action(env, against)
+    per_episode, fixed_rows = [], []
     for s in range(seed, seed + episodes):
         obs, _ = env.reset(seed=s)
         action, _ = model.predict(obs, deterministic=True)
         _, r, _, _, info = env.step(np.clip(action, -1.0, 1.0))
         per_episode.append(dict(seed=s, context=info["context"], design=info["design"], reward=float(r),
                                 traversals=int(info["traversals"]), outcome=info["outcome"]))
+        if fixed is not None:
+            env.reset(seed=s)  # the same context and build for the fixed design
+            _, r, _, _, info = env.step(fixed)
+            fixed_rows.append((float(r), int(info["traversals"])))
     rewards = [e["reward"] for e in per_episode]
     traversals = [e["traversals"] for e in per_episode]
     outcomes = [e["outcome"] for e in per_episode]
     rw = np.array(rewards)
-    return dict(algo=run["algo"], episodes=episodes, seeds=[seed, seed + episodes - 1], mean_reward=float(rw.mean()),
-                std_reward=float(rw.std()), min_reward=float(rw.min()), max_reward=float(rw.max()),
-                full_row=env.config.scene.frames - 1,
-                full_row_fraction=float(np.mean(np.array(traversals) >= env.config.scene.frames - 1)),
-                outcomes={o: outcomes.count(o) for o in sorted(set(outcomes))}, rewards=rewards,
-                varied_context=[c.name for c in env.space.varied_context], per_episode=per_episode)
+    full_row = env.config.scene.frames - 1
+    rep = dict(algo=run["algo"], episodes=episodes, seeds=[seed, seed + episodes - 1], mean_reward=float(rw.mean()),
+               std_reward=float(rw.std()), min_reward=float(rw.min()), max_reward=float(rw.max()),
+               full_row=full_row, full_row_fraction=float(np.mean(np.array(traversals) >= full_row)),
+               outcomes={o: outcomes.count(o) for o in sorted(set(outcomes))}, rewards=rewards,
+               varied_context=[c.name for c in env.space.varied_context], per_episode=per_episode)
+    if fixed is not None:
+        fr = np.array([r for r, _ in fixed_rows])
+        rep["against"] = dict(design=env.space.values(fixed), mean_reward=float(fr.mean()),
+                              std_reward=float(fr.std()),
+                              full_row_fraction=float(np.mean([t >= full_row for _, t in fixed_rows])),
+                              rewards=fr.tolist())
+    return rep
+
+
+def fixed_design_action(env, design: Config) -> np.ndarray:
+    """The action that plays ``design``'s tunable values in ``env``'s scene, or a ConfigError where ``design``
+    is not one design for that scene (it changes another field, or a value lies outside its tunable range)."""
+    from aero_env.design_space import changes_outside_tunables
+
+    # only its design is played, on the scene evaluated: its scene section (frames, pitch, ...) is not read,
+    # and the fields the scene draws at every reset are drawn for it too
+    drawn = {c.name for c in env.config.context} | {k for c in env.config.context for k in c.linked}
+    other = [k for k in changes_outside_tunables(env.config, design) if k.startswith("design.") and k not in drawn]
+    if other:
+        raise ConfigError(f"--against: the design differs from the scene's robot outside its tunables "
+                          f"({', '.join(other[:4])}{', ...' if len(other) > 4 else ''}); give a design for this "
+                          f"scene, e.g. the --out of aero-env tune on it")
+    return env.space.action_for({t.name: design.value(t.name) for t in env.space.tunables}, dtype=np.float64)
 
 
 def _check_same_problem(trained_on: Config, scene: Config) -> None:
