@@ -47,14 +47,6 @@ def test_reduced_agreement_caches_the_pymunk_runs(tmp_path):
     assert near["near"] == PAPER and near["spread"] == 0.1 and len(json.loads(cache.read_text())) == 2
 
 
-def test_rl_vs_tuning():
-    r = _bench("rl_vs_tuning.py", "--budget", "16", "--seeds-per-design", "1", "--holdout", "3",
-               "--methods", "prototype,random,ppo", "--jobs", "1", "--json")
-    assert [row["method"] for row in r["rows"]] == ["prototype", "random", "ppo"]
-    assert r["rows"][0]["episodes"] == 0  # the prototype is not searched
-    assert all(0.0 <= row["mean_reward"] <= r["frames"] - 1 for row in r["rows"])
-
-
 def test_shaping_adversary():
     r = _bench("shaping_adversary.py", "--trials", "4", "--survey", "4", "--json")
     assert r["survey"]["designs"] == 4 and r["audit"]["designs"] == 4
