@@ -292,3 +292,21 @@ t = Thing(); r = weakref.ref(t, other); del t  # anything else goes to the hook 
     assert out.stdout.split("\n")[:4] == ["went on", "raised at the next trial", "and only once",
                                            "passed on ValueError"], out
     assert out.stderr == ""  # no "Exception ignored", no traceback
+
+
+def test_a_heartbeat_left_beating_by_a_ctrl_c_does_not_keep_the_process_alive():
+    """Optuna's heartbeat thread (not a daemon) is stopped by the ``with`` block around a trial; a Ctrl-C that lands
+    while the block enters or leaves skips the stop, and the interrupted tune printed its line and then never
+    exited. Such a thread, started and never stopped, is stopped by run_trials' cleanup, and the process ends."""
+    script = """
+from optuna.storages._heartbeat import HeartbeatThread
+from agents.tune_workers import stop_stray_heartbeats
+class Beat:
+    def get_heartbeat_interval(self): return 3600
+    def record_heartbeat(self, trial_id): print("beat", trial_id, flush=True)
+HeartbeatThread(7, Beat()).start()   # the with block's exit never ran
+print("stopped", stop_stray_heartbeats(), flush=True)
+"""
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60,
+                         cwd=Path(__file__).resolve().parent.parent)
+    assert out.returncode == 0 and out.stdout.split("\n")[:2] == ["beat 7", "stopped 1"], out
