@@ -20,7 +20,7 @@ from .conftest import PAPER
 def pymunk_slip(law) -> float:
     """The slip asked of pymunk point by point (the switch's reading before it read each body once):
     the fastest sliding of the tip's contact point over any face of the touched frame it touches."""
-    body, _cog, faces, rail_radius, _reach = law.frame_parts[next(iter(law.touching))]
+    body, _handle, _cog, faces, rail_radius, _reach = law.frame_parts[next(iter(law.touching))]
     centre = law.arm.local_to_world(law.tip_local)
     local = body.world_to_local(centre)
     found, nearest = [], None
@@ -66,6 +66,31 @@ def test_the_switch_reads_the_slip_pymunk_would_give_bit_for_bit(paper_cfg, fide
         if world.active == 0 and world.contact.touches(1):
             world.set_active(1)  # a bare world's live window stays put: move it as the runner would
     assert checked > 0.8 / cfg.sim.dt  # most of two swings
+
+
+def test_the_runners_c_reads_are_pymunks_properties_bit_for_bit(paper_cfg):
+    # body_state reads Chipmunk's getters without pymunk's Vec2d properties, and a frame's seat is computed from
+    # a read state: at every step of two swings (the frames turning, the robot in flight and caught) each value
+    # is the one pymunk's own properties and local_to_world give, to the last bit
+    from aero_env.physics import body_state
+
+    cfg = paper_cfg.replace({"scene.frames": 3})
+    world = World(cfg)
+    bodies = [*(f.body for f in world.frames), *world.robot.bodies]
+    seats_checked = 0
+    while world.t < 1.6:
+        for b in bodies:
+            x, y, a, vx, vy, w = body_state.read(b)
+            assert (x, y, a, vx, vy, w) == (*b.position, b.angle, *b.velocity, b.angular_velocity)
+            assert body_state.pose(body_state.handle(b)) == (x, y, a)
+        for f in world.frames:
+            seat = f.hook_seat_world()
+            assert f.hook_seat_at(body_state.read(f.body)) == (seat.x, seat.y)
+            seats_checked += f.body.angle != f.rest_angle
+        world.step()
+        if world.active == 0 and world.contact.touches(1):
+            world.set_active(1)
+    assert seats_checked > 1000  # turned frames, not only the rest angle's
 
 
 def test_bare_steps_with_the_runs_inputs_end_where_the_run_ends(paper_cfg):

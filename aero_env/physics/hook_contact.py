@@ -29,6 +29,7 @@ from math import cos, hypot, sin
 import pymunk
 
 from ..reasons import FRICTION_HELD
+from .body_state import handle, state
 from .swing_frame import HANDRAIL, HOOK
 
 
@@ -54,13 +55,14 @@ class StaticKineticFriction:
         self.touching = contact.touching  # the contact's own dict, kept current by its callbacks
         self.hook = contact.hook_shape
         self.arm = self.hook.body
+        self.arm_c = handle(self.arm)  # its C handle, read once a step (body_state)
         # What never changes during a run, read from pymunk once.
         self.tip_local = tuple(self.hook.offset)
         self.arm_cog = tuple(self.arm.center_of_gravity)
         radius = self.hook.radius
-        # per frame: its body, centre of gravity, handrail faces, card half-thickness and the reach within
-        # which a face line touches the tip's centre (the tip's and card's radii and the band)
-        self.frame_parts = tuple((f.body, tuple(f.body.center_of_gravity), f.faces, f.rail_radius,
+        # per frame: its body and the body's C handle, centre of gravity, handrail faces, card half-thickness
+        # and the reach within which a face line touches the tip's centre (the tip's and card's radii and the band)
+        self.frame_parts = tuple((f.body, handle(f.body), tuple(f.body.center_of_gravity), f.faces, f.rail_radius,
                                   radius + f.rail_radius + self.contact_band) for f in contact.frames)
 
     def slides(self) -> bool:
@@ -68,7 +70,7 @@ class StaticKineticFriction:
 
         The slip is read where the surfaces meet: the velocity of the tip's contact point relative
         to the card's point under it, along the face. The tip and the touched frame are each read
-        once (position, angle, velocity, spin) and the point transforms pymunk would do in C are
+        once (position, angle, velocity, spin: :mod:`.body_state`) and the point transforms pymunk would do in C are
         done here with the same double operations in the same order (Munk2D's cpBody.c and
         cpTransform.h: body point p is at (cos·px - sin·py + x, sin·px + cos·py + y) with (x, y) =
         ``body.position``, and moves at v + spin × (point - centre of gravity)), so every slip is
@@ -76,16 +78,9 @@ class StaticKineticFriction:
         8 reads instead of 6 to 10 calls and the Vec2d arithmetic around them. The first face found
         sliding decides.
         """
-        body, (cgx, cgy), faces, rail_radius, reach = self.frame_parts[next(iter(self.touching))]
-        arm = self.arm
-        ax, ay = arm.position
-        arm_angle = arm.angle
-        avx, avy = arm.velocity
-        aw = arm.angular_velocity
-        fx, fy = body.position
-        frame_angle = body.angle
-        fvx, fvy = body.velocity
-        fw = body.angular_velocity
+        _, frame_c, (cgx, cgy), faces, rail_radius, reach = self.frame_parts[next(iter(self.touching))]
+        ax, ay, arm_angle, avx, avy, aw = state(self.arm_c)
+        fx, fy, frame_angle, fvx, fvy, fw = state(frame_c)
         ac, as_ = cos(arm_angle), sin(arm_angle)
         fc, fs = cos(frame_angle), sin(frame_angle)
         # the tip's centre in the world (arm.local_to_world), then in the frame (body.world_to_local)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 
 from .. import units
+from .body_state import handle, pose
 from .world import World
 
 TRACE_COLUMNS = ("t", "frame", "theta1", "theta2", "alpha", "omega1", "omega2", "alpha_rate", "contact", "energy")
@@ -89,7 +90,8 @@ class TunnelWatch:
     coordinates at each step (it may be turning), with the hook's centre read from the arm's body."""
 
     def __init__(self, world: World, frame):
-        self.frame, self.arm = frame, world.robot.arm
+        self.frame = frame
+        self.arm_c, self.frame_c = handle(world.robot.arm), handle(frame.body)  # read every step (body_state)
         self.tip = tuple(world.robot.hook_local)
         self.faces = frame.faces  # (start x, y, unit direction x, y, length), the card's middle line, frame-local
         self.clearance = world.p.hook_radius + frame.rail_radius
@@ -99,14 +101,11 @@ class TunnelWatch:
 
     def step(self) -> str | None:
         """After a runner step: why the run is unstable (the hook went through a card), or None."""
-        arm, body = self.arm, self.frame.body
-        ax, ay = arm.position
-        a = arm.angle
+        ax, ay, a = pose(self.arm_c)
         tx, ty = self.tip
         ca, sa = math.cos(a), math.sin(a)
         hx, hy = self.hook = ca * tx - sa * ty + ax, sa * tx + ca * ty + ay  # the hook's centre, world
-        fx, fy = body.position
-        b = body.angle
+        fx, fy, b = pose(self.frame_c)
         cb, sb = math.cos(b), math.sin(b)
         lx, ly = cb * (hx - fx) + sb * (hy - fy), -sb * (hx - fx) + cb * (hy - fy)  # ... in the frame
         prev, self.prev = self.prev, (lx, ly)

@@ -31,6 +31,7 @@ from .. import reasons as say
 from .. import units
 from ..results import Swing
 from .swing_rules import CARRIED_THETA1_DEG, REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG
+from .body_state import angle, handle
 from .miss import FlightRecord, classify_miss
 from .monitors import TunnelWatch
 
@@ -85,7 +86,7 @@ class Hanging:
     def __init__(self, run: Run, frame, t: float):
         self.run, self.frame = run, frame
         self.index, self.touching = frame.index, run.touching
-        self.body = frame.body
+        self.frame_c = handle(frame.body)  # its angle is read every step (body_state)
         self.t_touch = t  # the last runner step at which the hook touched the frame
         self.peak = frame.theta
         self.t_stop: float | None = None
@@ -94,7 +95,7 @@ class Hanging:
     def step(self, t: float):
         if self.index in self.touching:
             self.t_touch = t
-            if self.swing.t_carried is None and self.body.angle >= self.run.carried_angle:
+            if self.swing.t_carried is None and angle(self.frame_c) >= self.run.carried_angle:
                 self.run.ending = self.run.carried(self.swing, t)
             return self
         return LettingGo(self).step(t)
@@ -131,8 +132,8 @@ class Hanging:
         sw = self.swing
         th2 = math.degrees(sample.theta2)
         sw.theta2_min_deg, sw.theta2_max_deg = min(sw.theta2_min_deg, th2), max(sw.theta2_max_deg, th2)
-        seat = self.frame.hook_seat_world()
-        gap = math.hypot(sample.hook[0] - seat.x, sample.hook[1] - seat.y)
+        sx, sy = self.frame.hook_seat_at(sample.frames[self.index])  # the hanging frame is live
+        gap = math.hypot(sample.hook[0] - sx, sample.hook[1] - sy)
         sw.catch_seat_mm = min(sw.catch_seat_mm, gap)  # engine units (mm) until the result is built
 
 

@@ -104,8 +104,9 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None,
             if bad:
                 ending = ("unstable", bad)
                 break
-            seat = target.hook_seat_world()
-            run.closest = min(run.closest, math.hypot(sample.hook[0] - seat.x, sample.hook[1] - seat.y))
+            st = sample.frames.get(target.index)
+            sx, sy = target.hook_seat_world() if st is None else target.hook_seat_at(st)
+            run.closest = min(run.closest, math.hypot(sample.hook[0] - sx, sample.hook[1] - sy))
             phase.observe(sample)
         if recording:
             recorder.after_step(n, t, sample)

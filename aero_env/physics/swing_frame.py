@@ -107,6 +107,15 @@ class SwingFrame:
     def omega(self) -> float:
         return self.body.angular_velocity
 
+    def hook_seat_at(self, state: tuple) -> tuple[float, float]:
+        """The hook seat in the world from a read state (x, y, angle, ...): ``hook_seat_world`` without
+        a call into pymunk, in the double operations of Munk2D's cpTransformPoint (the body's transform
+        is (cos, -sin, x; sin, cos, y) at its angle), so the two agree bit for bit."""
+        x, y, a = state[0], state[1], state[2]
+        c, s = math.cos(a), math.sin(a)
+        sx, sy = self.hook_seat_local
+        return c * sx - s * sy + x, s * sx + c * sy + y
+
     def hook_seat_world(self) -> pymunk.Vec2d:
         return self.body.local_to_world(self.hook_seat_local)
 

@@ -23,6 +23,7 @@ import pymunk
 
 from .. import units
 from ..config import Config
+from . import body_state
 from .drag import AirDrag
 from .engine_params import EngineParams, to_engine
 from .hook_contact import HookContact, PinnedHook, friction_law
@@ -36,10 +37,8 @@ FLOOR_RADIUS = 1.0  # engine units (mm): the floor segment's half thickness
 
 def read_state(b: pymunk.Body) -> tuple[float, float, float, float, float, float]:
     """(x, y, angle, vx, vy, omega): the body's origin, its angle, its centre of gravity's velocity
-    and its angular velocity, each read from pymunk once."""
-    x, y = b.position
-    vx, vy = b.velocity
-    return x, y, b.angle, vx, vy, b.angular_velocity
+    and its angular velocity, each read from pymunk once (:mod:`.body_state`)."""
+    return body_state.read(b)
 
 
 class Sample(NamedTuple):
@@ -53,6 +52,7 @@ class Sample(NamedTuple):
     # drift (m: frame skewers, robot axle, pinned hook), limit overshoot (rad: frame stoppers, arm
     # stopper), hook penetration into a handrail card (m).
     health: tuple[float, float, float]
+    frames: dict  # live frame index -> its read state (x, y, angle, vx, vy, omega), engine units
 
 
 class World:
@@ -97,6 +97,7 @@ class World:
         # Mass, moment and centre of gravity never change: read them from pymunk once.
         self._mass_props = {b: (b.mass, b.moment, b.center_of_gravity.x, b.center_of_gravity.y)
                             for b in (*(f.body for f in self.frames), *self.robot.bodies)}
+        self._c = {b: body_state.handle(b) for b in self._mass_props}  # C handles, read on every check
         self.t = 0.0
         self.steps = 0
         # What the Python layer changed in the space between steps, in order: (runner steps taken, what,
@@ -172,12 +173,13 @@ class World:
         """
         drift, over = 0.0, 0.0
         frame_states = {}
+        read, c = body_state.state, self._c
         for f in self._live:
-            st = frame_states[f.index] = read_state(f.body)
+            st = frame_states[f.index] = read(c[f.body])
             d, o = f.health(st)
             drift, over = max(drift, d), max(over, o)
         robot = self.robot
-        states = [read_state(b) for b in robot.bodies]
+        states = [read(c[b]) for b in robot.bodies]
         # every live body's energy and speed in one loop: _energy_of written out (same operations, same order),
         # since a call per body is a tenth of a check's cost
         g, mass_props, sin, cos = self.p.gravity, self._mass_props, math.sin, math.cos
@@ -197,7 +199,7 @@ class World:
         pen = self.contact.penetration([(self.frames[i], frame_states[i]) for i in touching if i in frame_states],
                                        m.hook) if touching else 0.0
         return Sample(units.energy_to_si(e), math.sqrt(v2max), math.atan2(m.hook[1] - m.com[1], m.hook[0] - m.com[0]),
-                      m.hook, (units.length_to_si(drift), over, units.length_to_si(pen)))
+                      m.hook, (units.length_to_si(drift), over, units.length_to_si(pen)), frame_states)
 
     def energy(self) -> float:
         """Total mechanical energy in joules: kinetic + gravitational + spring, over every frame and the robot."""
