@@ -74,8 +74,26 @@ class DesignSpace:
             out.update(self._follow(t, v))
         return out
 
-    def _follow(self, leader, value: float) -> dict[str, float]:
-        """The values of ``leader``'s linked fields when it takes ``value``: each scaled by the same factor."""
+    def values_columns(self, actions: np.ndarray) -> dict[str, np.ndarray]:
+        """:meth:`values` of every row of in-box ``actions`` (n, d) at once, one float64 array per field: the same
+        double operations element by element, so each entry is the float :meth:`values` gives for its row (a
+        geometric range takes Python's ``**`` per entry, as numpy's power need not round as Python's does)."""
+        out: dict[str, np.ndarray] = {}
+        for j, (t, (low, high)) in enumerate(zip(self.tunables, self.ranges)):
+            x = (actions[:, j].astype(np.float64) + 1.0) / 2.0
+            if t.scale == "log":
+                ratio = high / low
+                v = np.array([low * ratio ** xj for xj in x.tolist()], dtype=np.float64)
+            else:
+                v = low * (1.0 - x) + high * x
+            v = np.minimum(np.maximum(v, low), high)
+            out[t.name] = v
+            out.update(self._follow(t, v))
+        return out
+
+    def _follow(self, leader, value):
+        """The values of ``leader``'s linked fields when it takes ``value`` (a float, or an array of them): each
+        scaled by the same factor."""
         factor = value / self.cfg.value(leader.name) if leader.linked else 1.0
         return {key: self.cfg.value(key) * factor for key in leader.linked}
 
@@ -167,6 +185,33 @@ class DesignSpace:
             v = values.get(t.name, self.cfg.value(t.name))
             built[t.name] = v * (1.0 + t.relative * u) + t.absolute * u
         return {**values, **built}, built
+
+    def episode_columns(self, design: Mapping[str, np.ndarray], draws) -> tuple[dict, dict]:
+        """:meth:`episode_values` of many episodes at once, as one float64 array per field: ``design`` from
+        :meth:`values_columns`, ``draws`` one :class:`Draw` per episode; each entry is the float
+        :meth:`episode_values` gives for its episode."""
+        n = len(draws)
+        context = {c.name: np.array([d.context[c.name] for d in draws], dtype=np.float64) for c in self.context}
+        links = {}
+        for c in self.context:
+            links.update(self._follow(c, context[c.name]))
+        values = {**context, **links, **design}
+        built = {}
+        if self.tolerances:
+            u = np.array([d.tolerance_u for d in draws], dtype=np.float64).reshape(n, len(self.tolerances))
+            for j, t in enumerate(self.tolerances):
+                v = values[t.name] if t.name in values else np.full(n, self.cfg.value(t.name), dtype=np.float64)
+                built[t.name] = v * (1.0 + t.relative * u[:, j]) + t.absolute * u[:, j]
+        return {**values, **built}, built
+
+    def observations(self, draws) -> np.ndarray:
+        """:meth:`observation` of each draw, stacked (n, k) float32: the same values."""
+        obs = np.zeros((len(draws), self.obs_dim), dtype=np.float32)
+        for i, c in enumerate(self.context):
+            if c.low is not None and c.high > c.low:
+                ctx = np.array([d.context[c.name] for d in draws], dtype=np.float64)
+                obs[:, i] = 2.0 * (ctx - c.low) / (c.high - c.low) - 1.0
+        return obs
 
     def episode_config(self, design: Mapping[str, float], draw: Draw) -> tuple[Config, dict]:
         """The config to simulate, and the fields the tolerances changed (as built, SI)."""

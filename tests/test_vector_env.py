@@ -111,6 +111,28 @@ def test_at_reduced_one_batch_equals_single_envs_with_the_same_seeds():
     assert not np.array_equal(a[1][0], a[2][0])  # the autoreset drew new contexts
 
 
+def test_at_reduced_a_scene_that_draws_nothing_equals_single_envs_with_no_python_per_design(monkeypatch):
+    # the prototype's scene draws no context and no tolerance: a step goes from the actions to the model's kernel
+    # in arrays (no per-design plan, draw or run dict), and still equals the single envs bit for bit
+    from aero_env.design_space import DesignSpace
+    from aero_env.envs import aerial_acrobat_vector as vector_module
+
+    fast, slow = _vector(ENV_ID, num_envs=6, **REDUCED), _single_envs(ENV_ID, 6, **REDUCED)
+    try:
+        actions = _actions(5, 6, 3, slow.envs[0].unwrapped.action_for())
+        theirs = _rollout(slow, actions)
+        fast.reset(seed=SEED)
+        for what, name in ((vector_module, "plan_episode"), (DesignSpace, "values"), (DesignSpace, "draw"),
+                           (vector_module, "batch_runs"), (vector_module, "episode_info")):
+            monkeypatch.setattr(what, name, lambda *a, **k: (_ for _ in ()).throw(AssertionError("per design")))
+        mine = _rollout(fast, actions)
+    finally:
+        fast.close(), slow.close()
+    _check_equal_to_single_envs(mine, theirs, BATCH_ONLY_MISSING)
+    outcomes = set(mine[1][4]["final_info"]["outcome"])
+    assert len(outcomes) > 1, outcomes  # a sample the comparison can fail on
+
+
 def test_at_reduced_a_field_the_model_does_not_read_takes_the_config_path_and_still_equals_single_envs():
     # design.Cd (drag) is not read by the reduced model, so its episodes cannot go in as arrays: they are built
     # as configs (reduced_batch's other path), and every step must still be the single envs'

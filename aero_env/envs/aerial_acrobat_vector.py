@@ -23,7 +23,7 @@ from ..design_space import DesignSpace, Draw
 from ..reward import reward
 from ..simulation import simulate
 from .aerial_acrobat import Episode, episode_info, plan_episode, reset_info
-from .vector_info import batch_runs, stack_infos
+from .vector_info import batch_infos, batch_runs, stack_columns, stack_infos
 
 __all__ = ["AerialAcrobatVectorEnv", "MAX_NUM_ENVS", "POOL_START_METHOD"]
 
@@ -144,7 +144,8 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self._rngs: list[np.random.Generator | None] = [None] * self.num_envs  # each sub-env's, as gym.Env's
-        self._draws: list[Draw] = [self.space.nominal_draw()] * self.num_envs
+        self._nominal = self.space.nominal_draw()
+        self._draws: list[Draw] = [self._nominal] * self.num_envs
         self._observations = self._observe()
         if not self.reduced and self.workers > 1:
             _check_spawn_guard(self.workers)
@@ -169,16 +170,36 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         mask = self._reset_mask(options)
         infos = []
         for i in np.flatnonzero(mask):
-            if seeds[i] is not None:
+            if seeds[i] is not None and self.space.draws_anything:  # nothing drawn: the RNG is never read
                 self._rngs[i] = seeding.np_random(seeds[i])[0]
-            self._draws[i] = self.space.draw(self._rng(i))
-            infos.append(reset_info(self._draws[i]))
+            self._draws[i] = self._draw(i)
+            if not mask.all():
+                infos.append(reset_info(self._draws[i]))
         self._observations = self._observe()
-        info = stack_infos(infos) if mask.all() else self._masked(infos, mask)
+        info = self._reset_infos() if mask.all() else self._masked(infos, mask)
         return self._observations.copy(), info
 
     def step(self, actions):
-        episodes = self._plan(actions)
+        self._check_shape(actions)
+        ran = self._run_columns(actions) if self.reduced else None
+        if ran is None:
+            rewards, final_info = self._run_episodes(self._plan(actions))
+        else:
+            rewards, final_info = ran
+        final_obs = np.full(self.num_envs, None, dtype=object)
+        for i, row in enumerate(self._observations):
+            final_obs[i] = row.copy()
+        # SAME_STEP: every episode ended with this step, so every sub-env resets now, unseeded (its RNG goes on)
+        self._draws = [self._draw(i) for i in range(self.num_envs)]
+        self._observations = self._observe()
+        every = np.ones(self.num_envs, dtype=np.bool_)
+        info = {"final_obs": final_obs, "_final_obs": every, "final_info": final_info,
+                "_final_info": every.copy(), **self._reset_infos()}
+        return (self._observations.copy(), rewards, np.ones(self.num_envs, dtype=np.bool_),
+                np.zeros(self.num_envs, dtype=np.bool_), info)
+
+    def _run_episodes(self, episodes: list[Episode]) -> tuple[np.ndarray, dict]:
+        """The step's runs, one :class:`Episode` each: their rewards and the vector info of their step infos."""
         if self.reduced:
             from ..models.reduced.batch import reduced_batch  # numba's import waits for the first reduced step
 
@@ -188,18 +209,29 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
             results = self._simulate_each([e.config for e in episodes])
             rewards = np.array([reward(r, e.config) for r, e in zip(results, episodes)], dtype=np.float64)
             runs = [r.to_json_dict() for r in results]
-        final_infos = [episode_info(run, e, d) for run, e, d in zip(runs, episodes, self._draws)]
-        final_obs = np.full(self.num_envs, None, dtype=object)
-        for i, row in enumerate(self._observations):
-            final_obs[i] = row.copy()
-        # SAME_STEP: every episode ended with this step, so every sub-env resets now, unseeded (its RNG goes on)
-        self._draws = [self.space.draw(self._rng(i)) for i in range(self.num_envs)]
-        self._observations = self._observe()
-        every = np.ones(self.num_envs, dtype=np.bool_)
-        info = {"final_obs": final_obs, "_final_obs": every, "final_info": stack_infos(final_infos),
-                "_final_info": every.copy(), **stack_infos([reset_info(d) for d in self._draws])}
-        return (self._observations.copy(), rewards, np.ones(self.num_envs, dtype=np.bool_),
-                np.zeros(self.num_envs, dtype=np.bool_), info)
+        return rewards, stack_infos([episode_info(run, e, d) for run, e, d in zip(runs, episodes, self._draws)])
+
+    def _run_columns(self, actions) -> tuple[np.ndarray, dict] | None:
+        """At ``reduced``: :meth:`_run_episodes` of the step's episodes with one array per field and no Python per
+        design between the actions and the model's kernel: the same rewards and infos, bit for bit
+        (``tests/test_vector_env.py``). None where a row of ``actions`` is bad or the model refuses an episode: the
+        per-episode path then words the refusal as the single env does."""
+        from ..models.reduced.batch import reduced_columns
+
+        a = np.asarray(actions)
+        if a.dtype.kind not in "iuf":
+            return None
+        a = a.astype(np.float64)
+        if not np.isfinite(a).all() or (not self._clip and (np.abs(a) > 1.0).any()):
+            return None
+        design = self.space.values_columns(np.clip(a, -1.0, 1.0))  # DesignSpace.check_action's clip
+        values, built = self.space.episode_columns(design, self._draws)
+        ran = reduced_columns(self.config, values)
+        if ran is None:
+            return None
+        batch, rewards = ran
+        context = {k: [d.context[k] for d in self._draws] for k in self._draws[0].context}
+        return rewards, batch_infos(batch, self.config.sim.fidelity, design, context, built, self.num_envs)
 
     def close_extras(self, **kwargs: Any) -> None:
         if self._pool is not None:
@@ -221,8 +253,18 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
             self._rngs[i] = seeding.np_random()[0]
         return self._rngs[i]
 
+    def _draw(self, i: int) -> Draw:
+        """Sub-env i's next draw; a scene that draws nothing gives the nominal draw without its RNG (the same
+        values: every context at its config value, no tolerance)."""
+        return self.space.draw(self._rng(i)) if self.space.draws_anything else self._nominal
+
     def _observe(self) -> np.ndarray:
-        return np.stack([self.space.observation(d) for d in self._draws]).astype(np.float32, copy=False)
+        return self.space.observations(self._draws)
+
+    def _reset_infos(self) -> dict:
+        """``stack_infos`` of every sub-env's reset info (its drawn context), built by key."""
+        context = {k: [d.context[k] for d in self._draws] for k in self._draws[0].context}
+        return stack_columns({"context": context}, self.num_envs)
 
     def _seeds(self, seed) -> list:
         if seed is None:
@@ -252,12 +294,14 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
             info = self._add_info(info, sub, int(i))
         return info
 
+    def _check_shape(self, actions) -> None:
+        shape, expected = np.shape(actions), (self.num_envs, self.space.dim)
+        if shape != expected:
+            raise ConfigError(f"actions has shape {shape}: expected (num_envs, d) = {expected}, one row per "
+                              f"sub-env and one value per tunable ({', '.join(t.name for t in self.space.tunables)})")
+
     def _plan(self, actions) -> list[Episode]:
         a = np.asarray(actions)
-        expected = (self.num_envs, self.space.dim)
-        if a.shape != expected:
-            raise ConfigError(f"actions has shape {a.shape}: expected (num_envs, d) = {expected}, one row per "
-                              f"sub-env and one value per tunable ({', '.join(t.name for t in self.space.tunables)})")
         episodes = []
         for i, (row, draw) in enumerate(zip(a, self._draws)):
             try:

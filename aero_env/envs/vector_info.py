@@ -13,7 +13,7 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["stack_infos", "stack_values", "batch_runs"]
+__all__ = ["stack_infos", "stack_values", "stack_columns", "batch_runs", "batch_infos"]
 
 # Gymnasium's _add_info gives a typed array to exactly these types (and numpy scalars); others go in objects.
 _TYPED_SCALARS = (int, float, bool)
@@ -43,6 +43,31 @@ def stack_infos(infos: Sequence[dict]) -> dict:
         out[key] = stack_infos(values) if isinstance(first, dict) else stack_values(values)
         out[f"_{key}"] = np.ones(n, dtype=np.bool_)
     return out
+
+
+def stack_columns(columns: dict, n: int) -> dict:
+    """:func:`stack_infos` of ``n`` sub-envs' infos given by key, each key's values one per sub-env (a list, or a
+    dict of such for a dict-valued key), without a dict per sub-env: the same arrays and masks."""
+    out: dict = {}
+    for key, values in columns.items():
+        out[key] = stack_columns(values, n) if isinstance(values, dict) else stack_values(values)
+        out[f"_{key}"] = np.ones(n, dtype=np.bool_)
+    return out
+
+
+def batch_infos(batch, fidelity: str, design: dict, context: dict, as_built: dict, n: int) -> dict:
+    """The vector info of a reduced step's finished episodes, ``stack_infos`` of each one's
+    :func:`~aero_env.envs.aerial_acrobat.episode_info` of its :func:`batch_runs` entry, built from the batch's
+    arrays and the episodes' field arrays (``design``, ``context``, ``as_built``: key -> n values) with no dict
+    per episode: the same keys, order, dtypes and values (``tests/test_vector_env.py``)."""
+    # batch.miss(i) for each run: None where the run completed or has no finite miss (the batch holds NaN there)
+    miss = [None if m != m else m for m in batch.miss_distance.tolist()]
+    columns = dict(traversals=batch.traversals.tolist(), frames=[int(batch.frames)] * n,
+                   outcome=[str(o) for o in batch.outcome.tolist()], reason=[batch.reason(i) for i in range(n)],
+                   sim_time=batch.sim_time.tolist(), miss_distance=miss, fidelity=[fidelity] * n,
+                   design={k: v.tolist() for k, v in design.items()}, context=context,
+                   as_built={k: v.tolist() for k, v in as_built.items()})
+    return stack_columns(columns, n)
 
 
 def batch_runs(batch, fidelity: str) -> list[dict]:

@@ -21,10 +21,10 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from ...config import Config, ConfigError
-from ...reward import batch_reward, designs_reward
-from . import READ_KEYS, simulate_batch, simulate_designs
+from ...reward import batch_reward, designs_reward, rewards
+from . import READ_KEYS, simulate_batch, simulate_designs, simulate_values
 
-__all__ = ["FALLBACKS", "FallbackCount", "ReducedFallbackWarning", "reduced_batch"]
+__all__ = ["FALLBACKS", "FallbackCount", "ReducedFallbackWarning", "reduced_batch", "reduced_columns"]
 
 
 class ReducedFallbackWarning(RuntimeWarning):
@@ -78,3 +78,20 @@ def reduced_batch(base: Config, episodes: Sequence[Mapping[str, float]]):
         FALLBACKS.record(refusal)
     batch = simulate_batch(cfgs)
     return batch, batch_reward(batch, cfgs).astype(np.float64)
+
+
+def reduced_columns(base: Config, columns: Mapping[str, np.ndarray]):
+    """:func:`reduced_batch` of episodes given as one float64 array per field (the vector env's step:
+    :meth:`DesignSpace.episode_columns`), with no dict per episode: the batch and its rewards, the same runs and
+    rewards bit for bit. None where the arrays cannot go in as they are (a field the model does not read, no
+    field at all) or the model refuses a value: the caller then runs the episodes' dicts through
+    :func:`reduced_batch`, which words a refusal as the single env does."""
+    if not columns or not set(columns) <= READ_KEYS:
+        return None
+    try:
+        batch = simulate_values(base, columns)
+    except ConfigError:
+        return None
+    pitch = columns["scene.pitch"] if "scene.pitch" in columns else base.scene.pitch  # designs_reward's pitch
+    return batch, rewards(batch.outcome, batch.traversals, batch.flew, batch.miss_distance, pitch,
+                          base.env.reward_shaping).astype(np.float64)
