@@ -265,7 +265,7 @@ def test_bench_throughput_times_every_fidelity_the_vector_env_and_two_workers(ca
     rows = {(r["name"], r["how"]): r for r in rep["fidelities"]}
     single = [(name, "single env") for name in FIDELITY_PRESETS]
     n = numba.get_num_threads()
-    cores = [("reduced", f"vector env, {n} cores")] if n > 1 else []
+    cores = [("reduced", f"model batch, {n} cores"), ("reduced", f"vector env, {n} cores")] if n > 1 else []
     assert list(rows) == [("reduced", "model batch, 1 core"), ("reduced", "vector env, 1 core"), *cores, *single,
                           ("mbd", f"vector env, pool of {min(os.cpu_count(), 4)}")]  # every rung, every batch
     assert all(r["designs"] == 4 and r["designs_per_s"] > 0 and r["first_call_s"] > 0 for r in rows.values())
@@ -275,6 +275,13 @@ def test_bench_throughput_times_every_fidelity_the_vector_env_and_two_workers(ca
         if how != "single env":
             assert batched["vs_single"] == pytest.approx(batched["designs_per_s"] / alone["designs_per_s"])
         assert batched["mean_reward"] == alone["mean_reward"]  # the same designs, scored alike
+    for (name, how), r in rows.items():  # the vector env against the model batch on as many cores, same run
+        if how.startswith("vector env") and name == "reduced":
+            model = rows[name, how.replace("vector env", "model batch")]
+            assert r["vs_model_batch"] == pytest.approx(r["designs_per_s"] / model["designs_per_s"])
+    pool = rows["mbd", f"vector env, pool of {min(os.cpu_count(), 4)}"]
+    assert pool["pool_efficiency"] == pytest.approx(
+        pool["designs_per_s"] / (min(os.cpu_count(), 4) * rows["mbd", "single env"]["designs_per_s"]))
     assert [r["workers"] for r in rep["workers"]] == [1, 2]
     assert all(r["episodes"] == 4 for r in rep["workers"])
     # every way of stepping ran the seeded designs and scored them as env.step does

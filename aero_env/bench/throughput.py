@@ -5,14 +5,17 @@ runs the same seeded random designs (random designs differ 10x in cost), each ep
 seed ``seed + i`` and one step, and reports the median over ``repeats`` of its wall time:
 
 * ``fidelities``: every rung of the ladder through one single env, one design at a time; at
-  ``reduced`` also ``batch`` designs in one call of the model alone on one core (``model batch``:
-  the episodes' values as arrays, what the tuner's screen runs; its ``vs_mbd`` is the per-core
+  ``reduced`` also ``batch`` designs in one call of the model alone, on one core and on all (``model batch``:
+  the episodes' values as arrays, what the tuner's screen runs; its one-core ``vs_mbd`` is the per-core
   ratio of the model's cost), and through the vector env (``vectorization_mode="vector_entry_point"``)
   in one step, on one core and on all; at the config's pymunk fidelity (``mbd`` when the
   config is at ``reduced``) also the vector env with its process pool over the cores (``pool_workers``
   processes). ``vs_single``: a batched row's designs/s over the single env's at its fidelity (the batch
   runs ``batch`` designs, the single env the first ``episodes`` of them);
   ``vs_mbd``: any row's designs/s over the single env's at ``mbd``, both measured in this run.
+  ``vs_model_batch`` (``vs batch``): a reduced vector env row's designs/s over the model batch's on as many
+  cores (what the env's own Python costs around the kernel). ``pool_efficiency``: the pool's designs/s over
+  its process count times the single env's (1.0: every process as fast as one alone).
   ``first_call_s``: a row's first call, made untimed before its timed ones (at ``reduced`` it loads or
   compiles the model; for the pool it starts the workers): never inside a timed figure.
 * ``workers``: ``gymnasium.vector`` environments over the single env at the config's fidelity:
@@ -104,13 +107,14 @@ def _vector_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int, worke
                 first_call_s=first, mean_reward=float(np.mean(rewards)))
 
 
-def _model_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int) -> dict:
-    """The reduced model alone on one core: the episodes the vector env's reset(seed) and step(actions) run, as one
-    ``reduced_batch`` call of their values (what the tuner's screen calls), without the env around it."""
+def _model_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int, threads: int | None = 1) -> dict:
+    """The reduced model alone on ``threads`` cores (None: all): the episodes the vector env's reset(seed) and
+    step(actions) run, as one ``reduced_batch`` call of their values (what the tuner's screen calls), without the
+    env around it."""
     space, clip = DesignSpace(cfg), cfg.env.action_out_of_box == "clip"
     episodes = [plan_episode(space, space.draw_for_seed(seed + i), a, clip).values
                 for i, a in enumerate(actions)]
-    with _threads(1) as cores:
+    with _threads(threads) as cores:
         first = median_time(lambda: reduced_batch(cfg, episodes), 1)[0]
         wall, (_, rewards) = median_time(lambda: reduced_batch(cfg, episodes), repeats)
     return dict(name=cfg.sim.fidelity, how=f"model batch, {_cores(cores)}", designs=len(actions), wall_s=wall,
@@ -119,11 +123,19 @@ def _model_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int) -> dic
 
 def _ratios(rows: list[dict]) -> None:
     single = {r["name"]: r["designs_per_s"] for r in rows if r["how"] == "single env"}
+    # the model batch by cores ("1 core", "2 cores"): the vector env on as many cores is measured against it
+    model = {r["how"].split(", ")[1]: r["designs_per_s"] for r in rows if r["how"].startswith("model batch")}
     for r in rows:
+        if r["how"].startswith("vector env, pool of "):  # the pool's rate over as many single envs' (one per process)
+            workers = int(r["how"].rsplit(" ", 1)[1])
+            r["pool_efficiency"] = r["designs_per_s"] / (workers * single[r["name"]])
         base = single.get(BASELINE)
         r["vs_mbd"] = r["designs_per_s"] / base if base else None
         if r["how"] != "single env":
             r["vs_single"] = r["designs_per_s"] / single[r["name"]]
+        if r["name"] == REDUCED and r["how"].startswith("vector env"):
+            cores = r["how"].split(", ")[1]
+            r["vs_model_batch"] = r["designs_per_s"] / model[cores] if cores in model else None
 
 
 def fidelity_rows(cfg: Config, designs: np.ndarray, episodes: int, batch: int, repeats: int, seed: int,
@@ -136,6 +148,7 @@ def fidelity_rows(cfg: Config, designs: np.ndarray, episodes: int, batch: int, r
     rows.append(_model_row(low, designs[:batch], repeats, seed))
     rows.append(_vector_row(low, designs[:batch], repeats, seed, None, threads=1))
     if numba.get_num_threads() > 1:
+        rows.append(_model_row(low, designs[:batch], repeats, seed, threads=None))
         rows.append(_vector_row(low, designs[:batch], repeats, seed, None))
     for name in FIDELITY_PRESETS:
         rows.append(_single_row(_fidelity(cfg, name), designs[:episodes], repeats, seed))
@@ -197,6 +210,10 @@ def throughput(cfg: Config, episodes: int = 40, repeats: int = 3, seed: int = 0,
                 reduced_fallbacks=FALLBACKS.count - before)
 
 
+def _percent(x) -> str:
+    return "-" if x is None else f"{100 * x:.0f}%"
+
+
 def _ratio(x) -> str:
     return "-" if x is None else f"{x:.2f}x"
 
@@ -204,11 +221,16 @@ def _ratio(x) -> str:
 def table(report: dict) -> str:
     lines = [f"median of {report['repeats']} runs; the same random designs in every row (seed {report['seed']})",
              f"{'fidelity':>9} {'how':<24} {'designs':>7} {'designs/s':>10} {'vs single':>9} {'vs mbd':>9} "
-             f"{'first call s':>12} {'mean reward':>11}"]
+             f"{'vs batch':>8} {'first call s':>12} {'mean reward':>11}"]
     for r in report["fidelities"]:
         lines.append(f"{r['name']:>9} {r['how']:<24} {r['designs']:>7} {r['designs_per_s']:10.1f} "
-                     f"{_ratio(r.get('vs_single')):>9} {_ratio(r['vs_mbd']):>9} {r['first_call_s']:12.3f} "
+                     f"{_ratio(r.get('vs_single')):>9} {_ratio(r['vs_mbd']):>9} {_percent(r.get('vs_model_batch')):>8} "
+                     f"{r['first_call_s']:12.3f} "
                      f"{r['mean_reward']:11.3f}")
+    for r in report["fidelities"]:
+        if "pool_efficiency" in r:
+            lines.append(f"the pool at {r['name']}: {r['designs_per_s']:.1f} designs/s = {r['pool_efficiency']:.2f} x "
+                         f"its {r['how'].rsplit(' ', 1)[1]} processes x the single env's rate")
     lines += ["", f"gymnasium.vector over the single env at fidelity {report['fidelity']}",
               f"{'workers':>7} {'episodes':>8} {'wall s':>8} {'episodes/s':>10} {'speed-up':>8}"]
     for r in report["workers"]:
