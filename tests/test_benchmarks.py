@@ -70,3 +70,21 @@ def test_tuning_benchmarks(script, args, key):
         # fewer pymunk trials than the plain run's --trials (a count; the times are the benchmark's to report)
         assert plain["trials"] == 3 and screened["trials"] == 2 < plain["trials"]
         assert r["screen_designs"] == 50 and 0 <= screened["screen_full_rows"] <= 50
+
+
+def test_step_agreement_scores_each_setting_against_the_reference_on_its_converged_designs():
+    # a setting given as the reference's own step and iterations is the reference by another route: it must agree
+    # on every converged design; the coarse one's misses are the designs it counts differently, each listed with
+    # its count at every setting, and the agreement is taken over the designs reference/2 confirms
+    r = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "2", "--settings", "2/5,0.0625/120",
+               "--jobs", "2", "--json")
+    rows = {row["setting"]: row for row in r["rows"]}
+    assert list(rows) == ["reference", "reference/2", "2/5", "0.0625/120"] and r["designs"] == 6
+    assert rows["0.0625/120"]["wrong"] == [] and rows["reference"]["agreement_converged"] == 1.0
+    coarse = rows["2/5"]
+    assert coarse["wrong"], "2 ms at 5 iterations should miss a design of this sample: pick another seed"
+    for i in coarse["wrong"]:
+        counts = r["missed"][str(i)]
+        assert counts["2/5"] != counts["reference"] == counts["reference/2"]
+    assert coarse["agreement_converged"] == 1.0 - len(coarse["wrong"]) / r["converged_designs"]
+    assert "--settings: '2/x'" in _bench("step_agreement.py", "--settings", "2/x", expect=2)
