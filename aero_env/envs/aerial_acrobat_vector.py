@@ -230,8 +230,7 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         if ran is None:
             return None
         batch, rewards = ran
-        context = {k: [d.context[k] for d in self._draws] for k in self._draws[0].context}
-        return rewards, batch_infos(batch, self.config.sim.fidelity, design, context, built, self.num_envs)
+        return rewards, batch_infos(batch, self.config.sim.fidelity, design, self._contexts(), built, self.num_envs)
 
     def close_extras(self, **kwargs: Any) -> None:
         if self._pool is not None:
@@ -261,10 +260,13 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
     def _observe(self) -> np.ndarray:
         return self.space.observations(self._draws)
 
+    def _contexts(self) -> dict[str, list]:
+        """Every sub-env's drawn context, by key: one value per sub-env."""
+        return {k: [d.context[k] for d in self._draws] for k in self._draws[0].context}
+
     def _reset_infos(self) -> dict:
         """``stack_infos`` of every sub-env's reset info (its drawn context), built by key."""
-        context = {k: [d.context[k] for d in self._draws] for k in self._draws[0].context}
-        return stack_columns({"context": context}, self.num_envs)
+        return stack_columns({"context": self._contexts()}, self.num_envs)
 
     def _seeds(self, seed) -> list:
         if seed is None:
