@@ -86,7 +86,10 @@ class DesignSpace:
                 v = np.array([low * ratio ** xj for xj in x.tolist()], dtype=np.float64)
             else:
                 v = low * (1.0 - x) + high * x
-            v = np.minimum(np.maximum(v, low), high)
+            # min(max(v, low), high) as Python takes it: the first argument unless the other is strictly beyond it
+            # (np.maximum(0.0, -0.0) gives -0.0 where max gives 0.0, and the model tells the two apart)
+            v = np.where(low > v, low, v)
+            v = np.where(high < v, high, v)
             out[t.name] = v
             out.update(self._follow(t, v))
         return out
@@ -151,6 +154,16 @@ class DesignSpace:
             ctx[c.name] = self.cfg.value(c.name) if c.low is None else c.low + float(ui) * (c.high - c.low)
         tol = tuple(2.0 * float(x) - 1.0 for x in u[len(self.context):])
         return Draw(ctx, tol)
+
+    def fixed_draw(self) -> Draw:
+        """What :meth:`draw` gives with any RNG in a space that draws nothing (no varied context, no tolerance),
+        computed as :meth:`draw` computes it: a fixed range's ``low + u·0`` is ``low + 0.0``, which turns a -0.0
+        into 0.0 (``nominal_draw``'s centre would keep it)."""
+        if self.draws_anything:
+            raise ValueError("fixed_draw: this space draws a context or a tolerance; use draw(rng)")
+        ctx = {c.name: self.cfg.value(c.name) if c.low is None else c.low + 0.0 * (c.high - c.low)
+               for c in self.context}
+        return Draw(ctx, ())
 
     def draw_for_seed(self, seed: int) -> Draw:
         """What ``env.reset(seed=seed)`` draws (Gymnasium seeds the env's generator this way), for scoring an

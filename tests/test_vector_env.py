@@ -15,6 +15,8 @@ from aero_env.config import ConfigError
 from aero_env.envs import AerialAcrobatEnv, AerialAcrobatVectorEnv
 from aero_env.envs.vector_info import stack_infos
 
+from .conftest import PAPER
+
 ENV_ID = "aero_env/AerialAcrobat-v0"
 VARIED_ID = "aero_env/AerialAcrobatVaried-v0"  # draws context and tolerances: the seeds matter
 REDUCED = {"sim.fidelity": "reduced", "scene.frames": 3}
@@ -131,6 +133,51 @@ def test_at_reduced_a_scene_that_draws_nothing_equals_single_envs_with_no_python
     _check_equal_to_single_envs(mine, theirs, BATCH_ONLY_MISSING)
     outcomes = set(mine[1][4]["final_info"]["outcome"])
     assert len(outcomes) > 1, outcomes  # a sample the comparison can fail on
+
+
+@pytest.mark.parametrize("case", ["tunable", "context"])
+def test_a_signed_zero_reaches_the_model_as_the_single_env_gives_it(case):
+    # the reduced model tells design.h = -0.0 from 0.0 (a few designs in a hundred change outcome), so the arrays must
+    # clamp a tunable and fix a context as the single env's Python does: max(0.0, -0.0) is 0.0 where
+    # np.maximum(0.0, -0.0) is -0.0, and a drawn fixed range low + u*0 turns -0.0 into 0.0
+    from aero_env.config import from_dict, read_yaml
+
+    d = read_yaml(str(PAPER), "cfg")
+    if case == "tunable":  # the box's lowest h is -0.0, and every design takes it
+        next(t for t in d["tunable"] if t["name"] == "design.h")["low"] = -0.0
+    else:  # h fixed at -0.0 by a context that draws nothing
+        d["context"] = [{"name": "design.h", "low": -0.0, "high": -0.0}, {"name": "scene.rise"}]
+        d["tunable"] = [t for t in d["tunable"] if t["name"] != "design.h"]
+    cfg = from_dict(d, REDUCED)
+    fast, slow = _vector(ENV_ID, num_envs=64, config=cfg), _single_envs(ENV_ID, 64, config=cfg)
+    try:
+        centre = slow.envs[0].unwrapped.action_for()
+        actions = _actions(len(centre), 64, 5, centre)
+        if case == "tunable":
+            actions[:, 1] = -1.0
+        mine, theirs = _rollout(fast, actions), _rollout(slow, actions)
+    finally:
+        fast.close(), slow.close()
+    _check_equal_to_single_envs(mine, theirs, BATCH_ONLY_MISSING)
+    section = "design" if case == "tunable" else "context"
+    for k in (1, 2):
+        h, their_h = (r[k][4]["final_info"][section]["design.h"] for r in (mine, theirs))
+        assert np.array_equal(np.signbit(h), np.signbit(their_h)) and not np.signbit(h).any()
+
+
+@pytest.mark.parametrize("seeds", [[-1, 0], [np.int64(3), 4], [1.5, 2]])
+def test_a_bad_seed_is_refused_as_gymnasium_refuses_it_where_nothing_is_drawn(seeds):
+    # the prototype's scene draws nothing, so the vector env makes no generator per sub-env; a bad seed is still
+    # refused before any sub-env is reset, in Gymnasium's words, as the single envs refuse it
+    fast, slow = _vector(ENV_ID, num_envs=2, **REDUCED), _single_envs(ENV_ID, 2, **REDUCED)
+    try:
+        with pytest.raises(gym.error.Error) as mine:
+            fast.reset(seed=seeds)
+        with pytest.raises(gym.error.Error) as theirs:
+            slow.reset(seed=seeds)
+    finally:
+        fast.close(), slow.close()
+    assert str(mine.value) == str(theirs.value)
 
 
 def test_at_reduced_a_field_the_model_does_not_read_takes_the_config_path_and_still_equals_single_envs():

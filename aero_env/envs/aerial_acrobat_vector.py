@@ -144,8 +144,8 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self._rngs: list[np.random.Generator | None] = [None] * self.num_envs  # each sub-env's, as gym.Env's
-        self._nominal = self.space.nominal_draw()
-        self._draws: list[Draw] = [self._nominal] * self.num_envs
+        self._fixed = None if self.space.draws_anything else self.space.fixed_draw()
+        self._draws: list[Draw] = [self.space.nominal_draw()] * self.num_envs
         self._observations = self._observe()
         if not self.reduced and self.workers > 1:
             _check_spawn_guard(self.workers)
@@ -168,6 +168,9 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         if isinstance(seed, (int, np.integer)):
             super().reset(seed=int(seed))
         mask = self._reset_mask(options)
+        for i in np.flatnonzero(mask):  # every seed checked before any sub-env is reset
+            if seeds[i] is not None and not (isinstance(seeds[i], int) and seeds[i] >= 0):
+                seeding.np_random(seeds[i])  # Gymnasium's own refusal of that seed, as the single env's reset gives
         infos = []
         for i in np.flatnonzero(mask):
             if seeds[i] is not None and self.space.draws_anything:  # nothing drawn: the RNG is never read
@@ -253,9 +256,8 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         return self._rngs[i]
 
     def _draw(self, i: int) -> Draw:
-        """Sub-env i's next draw; a scene that draws nothing gives the nominal draw without its RNG (the same
-        values: every context at its config value, no tolerance)."""
-        return self.space.draw(self._rng(i)) if self.space.draws_anything else self._nominal
+        """Sub-env i's next draw; in a scene that draws nothing, the draw every RNG gives, without the RNG."""
+        return self.space.draw(self._rng(i)) if self._fixed is None else self._fixed
 
     def _observe(self) -> np.ndarray:
         return self.space.observations(self._draws)
