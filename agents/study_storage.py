@@ -153,13 +153,33 @@ def _storage_class():
             return frozen
 
         def set_trial_state_values(self, trial_id, state, values=None):
-            changed = super().set_trial_state_values(trial_id, state, values)
+            if state == TrialState.RUNNING and values is None:
+                changed = self._take_waiting(trial_id)
+            else:
+                changed = super().set_trial_state_values(trial_id, state, values)
             if changed and state == TrialState.RUNNING:  # a queued trial taken by this process
                 self.owned.add(trial_id)
                 self.set_trial_system_attr(trial_id, PROCESS_ATTR, process_stamp())
             elif state.is_finished():
                 self.owned.discard(trial_id)
             return changed
+
+        def _take_waiting(self, trial_id) -> bool:
+            """Take a queued trial: WAITING -> RUNNING in one conditional UPDATE, True for the one process whose
+            update found it WAITING. Optuna reads the state, then writes it, under ``SELECT ... FOR UPDATE``,
+            which SQLite ignores: two workers could both read WAITING and both run the trial (four threads
+            claiming one queued trial of a SQLite study: two or more took it in 15 rounds of 20)."""
+            from optuna.storages._rdb import models
+            from optuna.storages._rdb.storage import _create_scoped_session
+
+            trial = models.TrialModel
+            with _create_scoped_session(self.scoped_session) as session:
+                taken = (session.query(trial)
+                         .filter(trial.trial_id == trial_id, trial.state == TrialState.WAITING)
+                         .update({trial.state: TrialState.RUNNING}, synchronize_session=False))
+                if taken == 1:  # the update holds the row (SQLite: the database) until this transaction commits
+                    trial.find_or_raise_by_id(trial_id, session).datetime_start = datetime.now()  # as Optuna's own
+            return taken == 1
 
         def unbeaten_trial_ids(self, study_id: int) -> set[int]:
             """RUNNING trials with no heartbeat yet: the heartbeat never fails one whose process died before it

@@ -339,6 +339,42 @@ def test_four_workers_share_a_sqlite_file_without_database_is_locked(tmp_path):
 
 # ---- Ctrl-C of the coordinator ----
 
+def test_a_queued_trial_is_taken_by_one_process_only_on_sqlite(tmp_path):
+    # Optuna takes a queued (WAITING) trial by reading its state and then writing RUNNING under SELECT ... FOR
+    # UPDATE, which SQLite ignores: workers starting together could both take the config's enqueued design and run
+    # it twice (seen once in CI: a trial named one worker and was reported by the other). Four storages claim one
+    # queued trial at the same instant, ten times over: exactly one claim wins each time, and the trial is RUNNING
+    # with its start time stamped. (Before the fix, two or more claims won in 15 rounds of 20.)
+    import threading
+
+    import optuna
+    from optuna.trial import TrialState
+
+    from agents.study_storage import open_storage
+
+    for round_ in range(10):
+        url = f"sqlite:///{tmp_path / f's{round_}.db'}"
+        study = optuna.create_study(study_name="s", storage=open_storage(url))
+        study.enqueue_trial({"x": 0.5})
+        trial_id = study.get_trials(deepcopy=False)[0]._trial_id
+        storages = [open_storage(url) for _ in range(4)]
+        barrier, won = threading.Barrier(4), []
+
+        def claim(storage):
+            barrier.wait()
+            won.append(storage.set_trial_state_values(trial_id, TrialState.RUNNING))
+
+        threads = [threading.Thread(target=claim, args=(s,)) for s in storages]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        assert sorted(won) == [False, False, False, True], round_
+        taken = optuna.load_study(study_name="s", storage=url).get_trials(deepcopy=False)[0]
+        assert taken.state == TrialState.RUNNING and taken.datetime_start is not None
+        assert sum(taken._trial_id in s.owned for s in storages) == 1  # the winner alone counts it as its own
+
+
 def test_ctrl_c_of_the_coordinator_stops_its_workers_and_the_study_resumes(pg, tmp_path):
     db = reader(pg.url)
     run = Run(tmp_path, pg.url, "ctrl-c", 30, 2)
