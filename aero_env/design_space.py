@@ -141,6 +141,17 @@ class DesignSpace:
                                   f"(or set env.action_out_of_box: clip)")
         return np.clip(a, -1.0, 1.0)
 
+    def rows_in_box(self, actions, clip: bool) -> np.ndarray | None:
+        """:meth:`check_action` of every row of ``actions`` (n, d) at once, as one float64 array, where every row
+        passes; None where one does not (:meth:`check_action` of that row then says why, in its words)."""
+        a = np.asarray(actions)
+        if a.dtype.kind not in "iuf":
+            return None
+        a = a.astype(np.float64)
+        if not np.isfinite(a).all() or (not clip and (np.abs(a) > 1.0).any()):
+            return None
+        return np.clip(a, -1.0, 1.0)
+
     # ---- context and tolerances ----
     @property
     def draws_anything(self) -> bool:
@@ -178,12 +189,8 @@ class DesignSpace:
         return Draw(ctx, (0.0,) * len(self.tolerances))
 
     def observation(self, draw: Draw) -> np.ndarray:
-        """The context normalised to [-1, 1] over its range (0 where it is fixed)."""
-        obs = np.zeros(self.obs_dim, dtype=np.float32)
-        for i, c in enumerate(self.context):
-            if c.low is not None and c.high > c.low:
-                obs[i] = 2.0 * (draw.context[c.name] - c.low) / (c.high - c.low) - 1.0
-        return obs
+        """The context normalised to [-1, 1] over its range (0 where it is fixed), float32."""
+        return self.observations([draw])[0]
 
     def episode_values(self, design: Mapping[str, float], draw: Draw) -> tuple[dict, dict]:
         """Every field the episode sets (dotted keys, SI: the drawn context and the fields linked to it, the
@@ -218,7 +225,7 @@ class DesignSpace:
         return {**values, **built}, built
 
     def observations(self, draws) -> np.ndarray:
-        """:meth:`observation` of each draw, stacked (n, k) float32: the same values."""
+        """:meth:`observation` of each draw, stacked (n, k) float32."""
         obs = np.zeros((len(draws), self.obs_dim), dtype=np.float32)
         for i, c in enumerate(self.context):
             if c.low is not None and c.high > c.low:

@@ -110,9 +110,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--json", action="store_true", help="one JSON object instead of the table")
     args = ap.parse_args(argv)
     try:
-        if args.designs < 1 or args.jobs < 1:
-            bad = ("--designs", args.designs) if args.designs < 1 else ("--jobs", args.jobs)
-            raise ConfigError(f"{bad[0]} = {bad[1]}: must be at least 1")
+        for option, value in (("--designs", args.designs), ("--jobs", args.jobs)):
+            if value < 1:
+                raise ConfigError(f"{option} = {value}: must be at least 1")
         settings = parse_settings(args.settings)
         rep = step_agreement(args.config, args.designs, args.seed, settings, args.jobs)
     except ConfigError as exc:

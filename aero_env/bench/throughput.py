@@ -101,10 +101,11 @@ def _vector_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int, worke
             wall, rewards = median_time(run, repeats)
     finally:
         envs.close()
-    how = (f"vector env, {_cores(cores)}" if envs.reduced
-           else f"vector env, pool of {min(envs.workers, len(actions))}")
+    processes = min(envs.workers, len(actions))
+    how = f"vector env, {_cores(cores)}" if envs.reduced else f"vector env, pool of {processes}"
     return dict(name=cfg.sim.fidelity, how=how, designs=len(actions), wall_s=wall, designs_per_s=len(actions) / wall,
-                first_call_s=first, mean_reward=float(np.mean(rewards)))
+                first_call_s=first, mean_reward=float(np.mean(rewards)),
+                **({"cores": cores} if envs.reduced else {"processes": processes}))
 
 
 def _model_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int, threads: int | None = 1) -> dict:
@@ -117,25 +118,23 @@ def _model_row(cfg: Config, actions: np.ndarray, repeats: int, seed: int, thread
     with _threads(threads) as cores:
         first = median_time(lambda: reduced_batch(cfg, episodes), 1)[0]
         wall, (_, rewards) = median_time(lambda: reduced_batch(cfg, episodes), repeats)
-    return dict(name=cfg.sim.fidelity, how=f"model batch, {_cores(cores)}", designs=len(actions), wall_s=wall,
+    return dict(name=cfg.sim.fidelity, how=f"model batch, {_cores(cores)}", cores=cores, designs=len(actions), wall_s=wall,
                 designs_per_s=len(actions) / wall, first_call_s=first, mean_reward=float(np.mean(rewards)))
 
 
 def _ratios(rows: list[dict]) -> None:
     single = {r["name"]: r["designs_per_s"] for r in rows if r["how"] == "single env"}
-    # the model batch by cores ("1 core", "2 cores"): the vector env on as many cores is measured against it
-    model = {r["how"].split(", ")[1]: r["designs_per_s"] for r in rows if r["how"].startswith("model batch")}
+    # the model batch by cores: the vector env on as many cores is measured against it
+    model = {r["cores"]: r["designs_per_s"] for r in rows if r["how"].startswith("model batch")}
     for r in rows:
-        if r["how"].startswith("vector env, pool of "):  # the pool's rate over as many single envs' (one per process)
-            workers = int(r["how"].rsplit(" ", 1)[1])
-            r["pool_efficiency"] = r["designs_per_s"] / (workers * single[r["name"]])
+        if "processes" in r:  # the pool's rate over as many single envs' (one per process)
+            r["pool_efficiency"] = r["designs_per_s"] / (r["processes"] * single[r["name"]])
         base = single.get(BASELINE)
         r["vs_mbd"] = r["designs_per_s"] / base if base else None
         if r["how"] != "single env":
             r["vs_single"] = r["designs_per_s"] / single[r["name"]]
         if r["name"] == REDUCED and r["how"].startswith("vector env"):
-            cores = r["how"].split(", ")[1]
-            r["vs_model_batch"] = r["designs_per_s"] / model[cores] if cores in model else None
+            r["vs_model_batch"] = r["designs_per_s"] / model[r["cores"]] if r["cores"] in model else None
 
 
 def fidelity_rows(cfg: Config, designs: np.ndarray, episodes: int, batch: int, repeats: int, seed: int,
@@ -230,7 +229,7 @@ def table(report: dict) -> str:
     for r in report["fidelities"]:
         if "pool_efficiency" in r:
             lines.append(f"the pool at {r['name']}: {r['designs_per_s']:.1f} designs/s = {r['pool_efficiency']:.2f} x "
-                         f"its {r['how'].rsplit(' ', 1)[1]} processes x the single env's rate")
+                         f"its {r['processes']} processes x the single env's rate")
     lines += ["", f"gymnasium.vector over the single env at fidelity {report['fidelity']}",
               f"{'workers':>7} {'episodes':>8} {'wall s':>8} {'episodes/s':>10} {'speed-up':>8}"]
     for r in report["workers"]:

@@ -171,15 +171,15 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         for i in np.flatnonzero(mask):  # every seed checked before any sub-env is reset
             if seeds[i] is not None and not (isinstance(seeds[i], int) and seeds[i] >= 0):
                 seeding.np_random(seeds[i])  # Gymnasium's own refusal of that seed, as the single env's reset gives
-        infos = []
         for i in np.flatnonzero(mask):
             if seeds[i] is not None and self.space.draws_anything:  # nothing drawn: the RNG is never read
                 self._rngs[i] = seeding.np_random(seeds[i])[0]
             self._draws[i] = self._draw(i)
-            if not mask.all():
-                infos.append(reset_info(self._draws[i]))
         self._observations = self._observe()
-        info = self._reset_infos() if mask.all() else self._masked(infos, mask)
+        if mask.all():
+            info = self._reset_infos()
+        else:
+            info = self._masked([reset_info(self._draws[i]) for i in np.flatnonzero(mask)], mask)
         return self._observations.copy(), info
 
     def step(self, actions):
@@ -221,13 +221,10 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         per-episode path then words the refusal as the single env does."""
         from ..models.reduced.batch import reduced_columns
 
-        a = np.asarray(actions)
-        if a.dtype.kind not in "iuf":
+        a = self.space.rows_in_box(actions, self._clip)
+        if a is None:
             return None
-        a = a.astype(np.float64)
-        if not np.isfinite(a).all() or (not self._clip and (np.abs(a) > 1.0).any()):
-            return None
-        design = self.space.values_columns(np.clip(a, -1.0, 1.0))  # DesignSpace.check_action's clip
+        design = self.space.values_columns(a)
         values, built = self.space.episode_columns(design, self._draws)
         ran = reduced_columns(self.config, values)
         if ran is None:

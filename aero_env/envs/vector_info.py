@@ -36,13 +36,13 @@ def stack_values(values: Sequence) -> np.ndarray:
 
 def stack_infos(infos: Sequence[dict]) -> dict:
     """The vector info of per-sub-env ``infos`` that share their keys, every ``_key`` mask all True."""
-    n = len(infos)
-    out: dict = {}
-    for key, first in infos[0].items():
-        values = [info[key] for info in infos]
-        out[key] = stack_infos(values) if isinstance(first, dict) else stack_values(values)
-        out[f"_{key}"] = np.ones(n, dtype=np.bool_)
-    return out
+    return stack_columns(_by_key(infos), len(infos))
+
+
+def _by_key(infos: Sequence[dict]) -> dict:
+    """Infos that share their keys, turned by key: each key's values one per info (a dict of such, nested)."""
+    return {key: _by_key([info[key] for info in infos]) if isinstance(first, dict) else [info[key] for info in infos]
+            for key, first in infos[0].items()}
 
 
 def stack_columns(columns: dict, n: int) -> dict:

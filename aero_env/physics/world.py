@@ -35,12 +35,6 @@ from .swing_frame import FLOOR, SwingFrame
 FLOOR_RADIUS = 1.0  # engine units (mm): the floor segment's half thickness
 
 
-def read_state(b: pymunk.Body) -> tuple[float, float, float, float, float, float]:
-    """(x, y, angle, vx, vy, omega): the body's origin, its angle, its centre of gravity's velocity
-    and its angular velocity, each read from pymunk once (:mod:`.body_state`)."""
-    return body_state.read(b)
-
-
 class Sample(NamedTuple):
     """What one read of the world gives the runner's checks."""
 
@@ -115,7 +109,7 @@ class World:
 
     # -- live window --
     def _body_energy(self, b: pymunk.Body) -> float:
-        return self._energy_of(b, read_state(b))
+        return self._energy_of(b, body_state.read(b))
 
     def _note_input(self, what: str, value: float) -> None:
         self.inputs.append((self.steps, what, value))
