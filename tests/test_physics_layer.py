@@ -20,7 +20,7 @@ from .conftest import PAPER
 def pymunk_slip(law) -> float:
     """The slip asked of pymunk point by point (the switch's reading before it read each body once):
     the fastest sliding of the tip's contact point over any face of the touched frame it touches."""
-    body, _handle, _cog, faces, rail_radius, _reach = law.frame_parts[next(iter(law.touching))]
+    body, faces, rail_radius = law.frame_parts[next(iter(law.touching))]
     centre = law.arm.local_to_world(law.tip_local)
     local = body.world_to_local(centre)
     found, nearest = [], None
@@ -44,10 +44,15 @@ def pymunk_slip(law) -> float:
     return fastest
 
 
-@pytest.mark.parametrize("fidelity", ["mbd", "mbd-fast"])
-def test_the_switch_reads_the_slip_pymunk_would_give_bit_for_bit(paper_cfg, fidelity):
+@pytest.mark.parametrize("fidelity,views", [("mbd", "struct"), ("mbd-fast", "struct"), ("mbd", "getters")])
+def test_the_switch_reads_the_slip_pymunk_would_give_bit_for_bit(paper_cfg, fidelity, views, monkeypatch):
     # At every step of the row with the hook on a handrail, the switch's slip is pymunk's to the last
-    # bit: with the threshold at pymunk's slip it does not slide, one ulp below it it does.
+    # bit: with the threshold at pymunk's slip it does not slide, one ulp below it it does. The compiled test
+    # reads the bodies' C structs; "getters": as it would with a pymunk whose struct it does not know.
+    from aero_env.physics import body_state
+
+    if views == "getters":
+        monkeypatch.setattr(body_state, "MEMORY_LAYOUT_HOLDS", False)
     cfg = paper_cfg.replace({"sim.fidelity": fidelity, "scene.frames": 3})
     world = World(cfg)
     law = world.contact.law
@@ -83,6 +88,7 @@ def test_the_runners_c_reads_are_pymunks_properties_bit_for_bit(paper_cfg):
             x, y, a, vx, vy, w = body_state.read(b)
             assert (x, y, a, vx, vy, w) == (*b.position, b.angle, *b.velocity, b.angular_velocity)
             assert body_state.pose(body_state.handle(b)) == (x, y, a)
+            assert body_state.memory_state(body_state.memory(b)) == (x, y, a, vx, vy, w)  # what compiled code reads
         for f in world.frames:
             seat = f.hook_seat_world()
             assert f.hook_seat_at(body_state.read(f.body)) == (seat.x, seat.y)
@@ -91,6 +97,51 @@ def test_the_runners_c_reads_are_pymunks_properties_bit_for_bit(paper_cfg):
         if world.active == 0 and world.contact.touches(1):
             world.set_active(1)
     assert seats_checked > 1000  # turned frames, not only the rest angle's
+
+
+def test_python_hypot_is_math_hypot_bit_for_bit():
+    # the compiled switch's hypot (CPython's algorithm; numba's math.hypot is the C library's, which differs)
+    import random
+
+    from aero_env.physics.slip_kernel import python_hypot
+
+    rng = random.Random(5)
+    pairs = [(0.0, 0.0), (-0.0, 3.0), (3.0, -4.0), (1e-310, 3e-311), (5e-324, 0.0), (1e308, 1e308), (math.inf, math.nan),
+             (math.nan, 1.0), (-math.inf, 0.0), (1.0, 1.0 + 2.0 ** -52)]
+    pairs += [(rng.gauss(0.0, 1.0) * 10.0 ** rng.randint(-9, 4), rng.gauss(0.0, 1.0) * 10.0 ** rng.randint(-9, 4))
+              for _ in range(50_000)]
+    for a, b in pairs:
+        got, want = python_hypot(a, b), math.hypot(a, b)
+        assert got == want or (math.isnan(got) and math.isnan(want)), (a, b, got.hex(), want.hex())
+
+
+def test_the_world_steps_through_pymunks_wrapper_only_after_it_changed_the_space(paper_cfg, monkeypatch):
+    # World.step calls cpSpaceStep itself, except on the step after frames joined or left the space, which goes
+    # through pymunk's Space.step: its check of the added bodies is then done, and nothing waits in pymunk's
+    # bookkeeping after any step
+    import aero_env.physics.world as world_module
+
+    cfg = paper_cfg.replace({"scene.frames": 3})
+    world = World(cfg)
+    calls = {"wrapper": 0, "c": 0}
+    wrapper, c_step = world.space.step, world_module._cp_space_step
+
+    def through_wrapper(dt):
+        calls["wrapper"] += 1
+        wrapper(dt)
+
+    def direct(cs, dt):
+        calls["c"] += 1
+        c_step(cs, dt)
+
+    world.space.step = through_wrapper
+    monkeypatch.setattr(world_module, "_cp_space_step", direct)
+    run = simulate(cfg, world=world)
+    moves = sum(what == "active" for _, what, _ in world.inputs)
+    assert run.outcome == "completed" and moves == 2
+    assert calls == {"wrapper": 1 + moves, "c": world.steps - 1 - moves}
+    space = world.space
+    assert not (space._bodies_to_check or space._add_later or space._remove_later or space._post_step_callbacks)
 
 
 def test_bare_steps_with_the_runs_inputs_end_where_the_run_ends(paper_cfg):

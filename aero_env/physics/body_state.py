@@ -42,3 +42,39 @@ def pose(cb) -> tuple[float, float, float]:
 
 
 angle = _angle  # angle(cb): the body's angle
+
+
+# -- the struct itself, for compiled code --
+# cpBody's leading fields in pymunk 7.3.1's Chipmunk (Munk2D), as doubles from the struct's start: two function
+# pointers, m, m_inv, i, i_inv, cog (2), p (2, the centre of gravity), v (2), f (2), a, w, t, then the transform
+# (a, b, c, d, tx, ty). Compiled code (:mod:`.slip_kernel`) reads a body's state from a view of these words with
+# the getters' own arithmetic: cpBodyGetPosition is cpTransformPoint(transform, cpvzero).
+VX, VY, ANGLE, SPIN, TA, TB, TC, TD, TX, TY = 10, 11, 14, 15, 17, 18, 19, 20, 21, 22
+WORDS = 23
+
+
+def memory(body: pymunk.Body):
+    """A float64 view of the body's C struct's first :data:`WORDS` words: each read of it is the live state.
+    Valid while the body lives (the view holds the buffer, the world holds the body)."""
+    import numpy as np
+    from pymunk._chipmunk_cffi import ffi
+
+    return np.frombuffer(ffi.buffer(body._body, WORDS * 8), dtype=np.float64)
+
+
+def memory_state(m) -> tuple[float, float, float, float, float, float]:
+    """:func:`state` computed from a :func:`memory` view as the getters compute it (what compiled code does)."""
+    return (m[TA] * 0.0 + m[TC] * 0.0 + m[TX], m[TB] * 0.0 + m[TD] * 0.0 + m[TY], m[ANGLE], m[VX], m[VY], m[SPIN])
+
+
+def _layout_holds() -> bool:
+    """Whether this pymunk's cpBody has the layout above: a probe body with a distinct value in every field the
+    view reads gives the getters' values through it, bit for bit."""
+    b = pymunk.Body(1.5, 2.5)
+    b.center_of_gravity = (0.3, -0.7)
+    b.position, b.angle = (1.2345678, -9.87654321), 2.123456789
+    b.velocity, b.angular_velocity = (3.1415, -2.7182), -0.987654321
+    return tuple(memory_state(memory(b))) == state(b._body)
+
+
+MEMORY_LAYOUT_HOLDS = _layout_holds()

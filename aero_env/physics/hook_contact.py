@@ -24,17 +24,32 @@ callbacks), which is what the event detector reads; it costs nothing between con
 
 from __future__ import annotations
 
-from math import cos, hypot, sin
-
 import pymunk
 
 from ..reasons import FRICTION_HELD
+from . import body_state
 from .body_state import handle, state
 from .swing_frame import HANDRAIL, HOOK
 
 
 def _unheard(_what: str, _value: float) -> None:
     pass
+
+
+class _GetterView:
+    """A body's state in an array laid out as its C struct's view (:func:`.body_state.memory`), filled from
+    Chipmunk's getters at each :meth:`read`: for a pymunk whose cpBody the view does not fit."""
+
+    def __init__(self, body: pymunk.Body):
+        import numpy as np
+
+        self.c, self.words = handle(body), np.zeros(body_state.WORDS)
+
+    def read(self):
+        w = self.words
+        w[body_state.TX], w[body_state.TY], w[body_state.ANGLE], w[body_state.VX], w[body_state.VY], \
+            w[body_state.SPIN] = state(self.c)
+        return w
 
 
 class StaticKineticFriction:
@@ -52,77 +67,45 @@ class StaticKineticFriction:
         self.log = log
 
     def bind(self, contact: "HookContact") -> None:
+        import numpy as np
+
+        from .slip_kernel import tip_slides
+
         self.touching = contact.touching  # the contact's own dict, kept current by its callbacks
         self.hook = contact.hook_shape
         self.arm = self.hook.body
-        self.arm_c = handle(self.arm)  # its C handle, read once a step (body_state)
         # What never changes during a run, read from pymunk once.
         self.tip_local = tuple(self.hook.offset)
         self.arm_cog = tuple(self.arm.center_of_gravity)
-        radius = self.hook.radius
-        # per frame: its body and the body's C handle, centre of gravity, handrail faces, card half-thickness
-        # and the reach within which a face line touches the tip's centre (the tip's and card's radii and the band)
-        self.frame_parts = tuple((f.body, handle(f.body), tuple(f.body.center_of_gravity), f.faces, f.rail_radius,
-                                  radius + f.rail_radius + self.contact_band) for f in contact.frames)
+        self.arm_data = np.array([*self.tip_local, *self.arm_cog])
+        # per frame index: (the frame's body, its handrail faces, the card's half-thickness) for readers, and what
+        # the compiled test takes: the body's struct view and one array of the frame's centre of gravity, the
+        # card's half-thickness, the reach within which a face line touches the tip's centre (the tip's and card's
+        # radii and the band) and the faces (slip_kernel.tip_slides)
+        self.frame_parts = tuple((f.body, f.faces, f.rail_radius) for f in contact.frames)
+        # (the views read the live state; with another pymunk's layout, arrays the getters fill before each test)
+        view = body_state.memory if body_state.MEMORY_LAYOUT_HOLDS else _GetterView
+        reach = self.hook.radius
+        self.frame_args = tuple(
+            (view(f.body), np.array([(*f.body.center_of_gravity, f.rail_radius, reach + f.rail_radius + self.contact_band,
+                                      0.0), *f.faces]))
+            for f in contact.frames)
+        self.arm_view = view(self.arm)
+        self._tip_slides = tip_slides
 
     def slides(self) -> bool:
         """Whether the tip's surface slides faster than ``slip_speed`` over a face it touches.
 
-        The slip is read where the surfaces meet: the velocity of the tip's contact point relative
-        to the card's point under it, along the face. The tip and the touched frame are each read
-        once (position, angle, velocity, spin: :mod:`.body_state`) and the point transforms pymunk would do in C are
-        done here with the same double operations in the same order (Munk2D's cpBody.c and
-        cpTransform.h: body point p is at (cos·px - sin·py + x, sin·px + cos·py + y) with (x, y) =
-        ``body.position``, and moves at v + spin × (point - centre of gravity)), so every slip is
-        bit-identical to asking pymunk point by point (tests/test_physics_layer.py checks it), for
-        8 reads instead of 6 to 10 calls and the Vec2d arithmetic around them. The first face found
-        sliding decides.
-        """
-        _, frame_c, (cgx, cgy), faces, rail_radius, reach = self.frame_parts[next(iter(self.touching))]
-        ax, ay, arm_angle, avx, avy, aw = state(self.arm_c)
-        fx, fy, frame_angle, fvx, fvy, fw = state(frame_c)
-        ac, as_ = cos(arm_angle), sin(arm_angle)
-        fc, fs = cos(frame_angle), sin(frame_angle)
-        # the tip's centre in the world (arm.local_to_world), then in the frame (body.world_to_local)
-        tlx, tly = self.tip_local
-        cx, cy = ac * tlx - as_ * tly + ax, as_ * tlx + ac * tly + ay
-        lx = fc * cx + fs * cy + (-(fs * fy) - fx * fc)
-        ly = -(fs * cx) + fc * cy + (fx * fs - fc * fy)
-        # the centres of gravity in the world, about which each body's point velocities turn
-        agx, agy = self.arm_cog
-        arm_gx, arm_gy = ac * agx - as_ * agy + ax, as_ * agx + ac * agy + ay
-        frame_gx, frame_gy = fc * cgx - fs * cgy + fx, fs * cgx + fc * cgy + fy
-        threshold = self.slip_speed
-        candidates = faces
-        while True:
-            touched, nearest, nearest_gap = False, None, None
-            for face in candidates:
-                x0, y0, ux, uy, length = face
-                along = (lx - x0) * ux + (ly - y0) * uy
-                if 0.0 > along:  # min(max(along, 0.0), length), ties and NaN alike
-                    along = 0.0
-                if length < along:
-                    along = length
-                qx, qy = x0 + along * ux, y0 + along * uy  # nearest point of the face's centre line
-                gap = hypot(lx - qx, ly - qy)
-                if gap <= reach or candidates is not faces:
-                    touched = True
-                    # the contact point on the card's surface, between the face line and the tip's centre
-                    f = rail_radius / gap if gap > 0.0 else 0.0
-                    px, py = qx + (lx - qx) * f, qy + (ly - qy) * f
-                    px, py = fc * px - fs * py + fx, fs * px + fc * py + fy
-                    tx, ty = ux * fc - uy * fs, ux * fs + uy * fc  # the face's direction in the world
-                    rax, ray, rfx, rfy = px - arm_gx, py - arm_gy, px - frame_gx, py - frame_gy
-                    if abs(((avx - ray * aw) - (fvx - rfy * fw)) * tx
-                           + ((avy + rax * aw) - (fvy + rfx * fw)) * ty) > threshold:
-                        return True
-                elif nearest_gap is None or gap < nearest_gap:
-                    nearest, nearest_gap = face, gap
-            if touched:
-                return False
-            # No face within reach, yet the contact callbacks say the tip touches this frame: the
-            # nearest face is the one it touches.
-            candidates = (nearest,)
+        The slip is read where the surfaces meet: the velocity of the tip's contact point relative to the card's
+        point under it, along the face, computed from the arm's and the touched frame's states as pymunk would
+        compute the two points' velocities (Munk2D's cpBody.c and cpTransform.h), bit for bit
+        (tests/test_physics_layer.py checks it). The first face found sliding decides. The test is compiled
+        (:mod:`.slip_kernel`): it runs before 9 in 10 of a run's steps."""
+        frame, data = self.frame_args[next(iter(self.touching))]
+        arm = self.arm_view
+        if not body_state.MEMORY_LAYOUT_HOLDS:
+            arm, frame = arm.read(), frame.read()
+        return self._tip_slides(arm, frame, self.arm_data, data, self.slip_speed)
 
     def before_step(self) -> None:
         if not self.touching:

@@ -74,46 +74,29 @@ riding a face's outside, the hook rolling in the corner, the ``hook: pin`` scene
 
 from __future__ import annotations
 
-import hashlib
-import os
-import sys
 import time
 from pathlib import Path
 from typing import Mapping, Sequence
 
-import numba
 import numpy as np
 
 from ...config import Config, ConfigError, check_values, real_field
+from ...jit_cache import cache_dir, caching_in
 
 _KERNEL_FILES = ("jit.py", "layout.py", "constants.py", "hooked_dynamics.py", "transitions.py", "impacts.py",
                  "hooked_phase.py", "catch.py", "flight.py", "run.py")
 
 
 def kernel_cache_dir(source: Path | None = None) -> Path:
-    """Where the compiled kernels are cached: one folder per version of their source, numba and Python.
-
-    numba's own cache checks only the file that holds a function, not the files its callees live in; a folder
-    keyed on every kernel file's text means an edited phase can never run with a stale caller. ``source``: the
-    folder whose kernel files make the key (default: this package's)."""
-    here = Path(__file__).parent if source is None else Path(source)
-    digest = hashlib.sha256()
-    for name in _KERNEL_FILES:
-        digest.update((here / name).read_bytes())
-    digest.update(f"{numba.__version__} {sys.version}".encode())
-    root = os.environ.get("AERO_ENV_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "aero-env")
-    return Path(root) / "numba" / digest.hexdigest()[:16]
+    """Where the compiled kernels are cached: one folder per version of their source, numba and Python
+    (:func:`aero_env.jit_cache.cache_dir`). ``source``: the folder whose kernel files make the key (default:
+    this package's)."""
+    return cache_dir(Path(__file__).parent if source is None else Path(source), _KERNEL_FILES)
 
 
 def _import_kernels():
-    # numba reads its cache folder when a function is decorated: point it at ours for our modules only
-    previous = numba.config.CACHE_DIR
-    numba.config.CACHE_DIR = str(kernel_cache_dir())
-    try:
+    with caching_in(kernel_cache_dir()):
         from . import run
-    finally:
-        numba.config.CACHE_DIR = previous
     return run
 
 
