@@ -15,7 +15,7 @@ import aero_env  # noqa: F401
 from aero_env.config import load_config
 from aero_env.physics import simulate
 from aero_env.physics import run as run_module
-from aero_env.physics import body_state
+from aero_env.physics import body_state, check_kernel
 from aero_env.physics import world as world_module
 from aero_env.physics.swing_frame import FLOOR
 
@@ -104,13 +104,19 @@ def test_the_default_time_step_has_a_margin(paper_cfg):
 # ---- a long row: no drift, no cost growing with the row ----
 def test_a_100_frame_row_does_not_drift_or_slow_down(paper_cfg, paper_run, monkeypatch):
     calls = {"n": 0}
-    read_state = body_state.state  # what a check reads each live body with (World.sample)
+    read_state = body_state.state  # what Python reads a body with
+    read_world = check_kernel.read_world  # what a check reads the world with, compiled (World.sample)
 
     def counted(b):
         calls["n"] += 1
         return read_state(b)
 
+    def counted_world(addresses, props, live, *rest):
+        calls["n"] += len(live) + 2  # the live frames and the robot's two bodies
+        return read_world(addresses, props, live, *rest)
+
     monkeypatch.setattr(body_state, "state", counted)
+    monkeypatch.setattr(check_kernel, "read_world", counted_world)
     cfg = paper_cfg.replace({"scene.frames": 100, "sim.t_max": 120.0})  # 99 swings of ~0.63 s
     # measured every 7th step (off the runner's 10-step check cadence; the 8-frame row is measured every
     # step in test_invariants): 63 s of row take four times as long measured every step

@@ -144,6 +144,62 @@ def test_the_world_steps_through_pymunks_wrapper_only_after_it_changed_the_space
     assert not (space._bodies_to_check or space._add_later or space._remove_later or space._post_step_callbacks)
 
 
+def _sampled_both_ways(cfg):
+    """Run ``cfg`` with every check's sample taken by the compiled read and by sample_python; their reprs
+    (every bit, signed zeros and NaN included) and how many checks compared."""
+    world = World(cfg)
+    compiled, pairs = world.sample, []
+
+    def both():
+        a = compiled()
+        pairs.append((repr(a), repr(world.sample_python())))
+        return a
+
+    world.sample = both
+    simulate(cfg, world=world)
+    return world, pairs
+
+
+def test_the_compiled_check_reads_what_sample_python_reads_bit_for_bit(paper_cfg):
+    # energy, fastest body, theta2, hook, health and the live frames' states, at every check of runs that catch,
+    # let go, fly, graze and fall, with a moving live window, air drag and two substeps a runner step
+    cfgs = [paper_cfg.replace({"scene.frames": 4}), paper_cfg.replace({"scene.frames": 3, "sim.fidelity": "mbd-fine"}),
+            paper_cfg.replace({"scene.frames": 2, "scene.effects.drag": True}),
+            *draw_designs(paper_cfg.replace({"scene.frames": 3}), 6, seed=8).configs]
+    checks = 0
+    for cfg in cfgs:
+        world, pairs = _sampled_both_ways(cfg)
+        assert world._check is not None
+        for a, b in pairs:
+            assert a == b
+        checks += len(pairs)
+    assert checks > 2000
+
+
+def test_a_pinned_hook_world_is_read_by_sample_python(paper_cfg):
+    # the kernel covers the jointed robot on a hook contact; the two-link scene takes the Python read
+    world = World(paper_cfg.replace({"scene.effects.hook": "pin", "scene.effects.friction": "static"}))
+    assert world._check is None and world.sample() == world.sample_python()
+
+
+def test_the_compiled_parts_run_as_plain_python_with_the_same_result(paper_cfg, tmp_path):
+    # NUMBA_DISABLE_JIT=1 runs the kernels' own code as Python (how to step through them): the same run, bit for bit
+    import subprocess
+    import sys
+
+    script = ("import json, sys\nfrom aero_env.config import load_config\nfrom aero_env.physics.run import simulate\n"
+              "r = simulate(load_config(sys.argv[1]).replace({'scene.frames': 3}), trace=True).to_json_dict()\n"
+              "r.pop('wall_time'); print(json.dumps(r, sort_keys=True, default=lambda v: v.tolist()))")
+    outs = []
+    for disable in ("0", "1"):
+        env = {**__import__("os").environ, "NUMBA_DISABLE_JIT": disable}
+        done = subprocess.run([sys.executable, "-c", script, str(PAPER)], capture_output=True, text=True, env=env,
+                              timeout=600)
+        assert done.returncode == 0, done.stderr
+        outs.append(json.loads(done.stdout))
+    assert outs[0] == outs[1] and outs[0]["outcome"] == "completed"
+
+
 def test_bare_steps_with_the_runs_inputs_end_where_the_run_ends(paper_cfg):
     # bench overhead's baseline: pymunk alone, given the run's window moves and friction changes,
     # ends in the run's final state bit for bit (the energy reads every live body)

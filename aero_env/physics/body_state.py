@@ -62,6 +62,13 @@ def memory(body: pymunk.Body):
     return np.frombuffer(ffi.buffer(body._body, WORDS * 8), dtype=np.float64)
 
 
+def address(body: pymunk.Body) -> int:
+    """The address of the body's C struct, for compiled code that reads it (valid while the body lives)."""
+    from pymunk._chipmunk_cffi import ffi
+
+    return int(ffi.cast("uintptr_t", body._body))
+
+
 def memory_state(m) -> tuple[float, float, float, float, float, float]:
     """:func:`state` computed from a :func:`memory` view as the getters compute it (what compiled code does)."""
     return (m[TA] * 0.0 + m[TC] * 0.0 + m[TX], m[TB] * 0.0 + m[TD] * 0.0 + m[TY], m[ANGLE], m[VX], m[VY], m[SPIN])

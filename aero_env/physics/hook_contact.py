@@ -24,6 +24,7 @@ callbacks), which is what the event detector reads; it costs nothing between con
 
 from __future__ import annotations
 
+import numpy as np
 import pymunk
 
 from ..reasons import FRICTION_HELD
@@ -41,8 +42,6 @@ class _GetterView:
     Chipmunk's getters at each :meth:`read`: for a pymunk whose cpBody the view does not fit."""
 
     def __init__(self, body: pymunk.Body):
-        import numpy as np
-
         self.c, self.words = handle(body), np.zeros(body_state.WORDS)
 
     def read(self):
@@ -67,8 +66,6 @@ class StaticKineticFriction:
         self.log = log
 
     def bind(self, contact: "HookContact") -> None:
-        import numpy as np
-
         from .slip_kernel import tip_slides
 
         self.touching = contact.touching  # the contact's own dict, kept current by its callbacks
@@ -154,6 +151,7 @@ class HookContact:
         # Handrail shape -> frame index. pymunk hands callbacks the same shape objects we created.
         self.frame_of_shape = {shape: f.index for f in frames for shape in f.shapes}
         self.touching: dict[int, int] = {}  # frame index -> number of touching faces
+        self.touch_counts = np.zeros(len(frames), dtype=np.int64)  # the same, by frame, for compiled code
         self.hook_shape = hook_shape
         hook_shape.friction = law.initial  # pair coefficient = product of the shapes' (handrails carry 1.0)
         law.bind(self)
@@ -168,7 +166,7 @@ class HookContact:
 
     def _begin(self, arbiter, _space, _data) -> None:
         i = self.frame_of_shape[arbiter.shapes[1]]
-        self.touching[i] = self.touching.get(i, 0) + 1
+        self.touching[i] = self.touch_counts[i] = self.touching.get(i, 0) + 1
 
     def _separate(self, arbiter, _space, _data) -> None:
         # Also called when a retired frame's shapes leave the space, or when the space is freed.
@@ -177,9 +175,10 @@ class HookContact:
             return
         n = self.touching.get(i, 0) - 1
         if n > 0:
-            self.touching[i] = n
+            self.touching[i] = self.touch_counts[i] = n
         else:
             self.touching.pop(i, None)
+            self.touch_counts[i] = 0
 
     def touches(self, frame_index: int) -> bool:
         return frame_index in self.touching

@@ -19,12 +19,13 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+import numpy as np
 import pymunk
 from pymunk._chipmunk_cffi import lib as _cp
 
 from .. import units
 from ..config import Config
-from . import body_state
+from . import body_state, check_kernel
 from .drag import AirDrag
 from .engine_params import EngineParams, to_engine
 from .hook_contact import HookContact, PinnedHook, friction_law
@@ -107,6 +108,9 @@ class World:
         self.active = -1
         self._live: list[SwingFrame] = []  # every frame starts parked, at rest
         self._parked_energy = sum(self._body_energy(f.body) for f in self.frames)
+        self._check = None  # the compiled check (check_kernel.read_world), where it covers this world
+        if body_state.MEMORY_LAYOUT_HOLDS and isinstance(self.robot, Robot) and isinstance(self.contact, HookContact):
+            self._compile_check()
         self._move_window(0)
         self.robot.place_hanging(self.frames[0].hook_seat_world(), p.theta2_start, p.alpha_max)
         self.contact.add_to(space)  # after placing: a pin joint anchors where the bodies are
@@ -122,6 +126,21 @@ class World:
         """Make frame i the robot's frame: keep i-1 (still turning), i and live_ahead frames ahead."""
         self._note_input("active", i)
         self._move_window(i)
+
+    def _compile_check(self) -> None:
+        """The compiled check's arguments: what never changes in a run, as arrays (check_kernel.read_world)."""
+        ck, p, bodies = check_kernel, self.p, (*(f.body for f in self.frames), *self.robot.bodies)
+        self._consts = consts = np.zeros(ck.N_CONSTS)
+        consts[[ck.GRAVITY, ck.ARM_LENGTH, ck.TORSO_COM, ck.M_TORSO, ck.M_ARM, ck.ALPHA_MAX, ck.ALPHA_MIN,
+                ck.HOOK_RADIUS]] = (p.gravity, p.arm_length, p.torso_com, p.m_torso, p.m_arm, p.alpha_max,
+                                    p.alpha_min, self.contact.hook_shape.radius)
+        frame_table = np.array([(f.axis.x, f.axis.y, f.stop_angle, f.rest_angle, f.rail_radius) for f in self.frames])
+        # the arguments before and after the live frames' indices, which each window move sets
+        self._check_head = (np.array([body_state.address(b) for b in bodies], dtype=np.int64),
+                            np.array([self._mass_props[b] for b in bodies]))
+        self._check_tail = (self.contact.touch_counts, frame_table, np.array([f.faces for f in self.frames]), consts)
+        self._check_out = np.zeros(ck.FRAME_STATES + 6 * len(self.frames))
+        self._check = ck.read_world
 
     def _move_window(self, i: int) -> None:
         self.active = i
@@ -139,6 +158,11 @@ class World:
                 self._parked_energy -= self._body_energy(f.body)
                 f.attach(self.space)
         self._live = window
+        self._live_indices = tuple(f.index for f in window)
+        if self._check is not None:
+            self._consts[check_kernel.PARKED_ENERGY] = self._parked_energy
+            self._check_args = (*self._check_head, np.array(self._live_indices, dtype=np.int64),
+                                *self._check_tail)
 
     def live_frames(self):
         return list(self._live)
@@ -182,7 +206,27 @@ class World:
 
         Frames outside the space are at rest (ahead) or at their stop (behind): their potential
         energy is constant and still counted, so the total is comparable across window moves.
+
+        Compiled (:mod:`.check_kernel`) where the kernel covers the world (the jointed robot on a hook
+        contact, pymunk's struct layout known), else :meth:`sample_python`; the two agree bit for bit.
         """
+        if self._check is None:
+            return self.sample_python()
+        out, ck = self._check_out, check_kernel
+        self._check(*self._check_args, out)
+        v = out.tolist()
+        e = v[ck.ENERGY] + self.spring.energy_for(v[ck.ALPHA])
+        k = ck.FRAME_STATES
+        frames = {}
+        for i in self._live_indices:
+            frames[i] = tuple(v[k:k + 6])
+            k += 6
+        return Sample(units.energy_to_si(e), math.sqrt(v[ck.V2MAX]), v[ck.THETA2], (v[ck.HOOK_X], v[ck.HOOK_Y]),
+                      (units.length_to_si(v[ck.DRIFT]), v[ck.OVERSHOOT], units.length_to_si(v[ck.PENETRATION])), frames)
+
+    def sample_python(self) -> "Sample":
+        """:meth:`sample` in Python: the reference the compiled read is checked against, and the path for a world
+        it does not cover."""
         drift, over = 0.0, 0.0
         frame_states = {}
         read, c = body_state.state, self._c
