@@ -212,16 +212,19 @@ def test_bare_steps_with_the_runs_inputs_end_where_the_run_ends(paper_cfg):
         kinds = {what for _, what, _ in world.inputs}
         assert kinds <= {"active", "friction"} and world.steps * cfg.sim.dt * cfg.sim.substeps == pytest.approx(
             run.sim_time)
-        bare = World(cfg)
-        replay(bare, world.inputs, world.steps)
-        assert bare.energy() == run.energy["final"], run.outcome
+        for c_step in (False, True):  # through pymunk's Space.step, or Chipmunk's cpSpaceStep as the runner calls it
+            bare = World(cfg)
+            replay(bare, world.inputs, world.steps, c_step)
+            assert bare.energy() == run.energy["final"], (run.outcome, c_step)
 
 
 def test_bench_overhead_reports_the_python_layer_against_a_replayed_bare_run(capsys):
     assert cli_main(["bench", "overhead", str(PAPER), "--set", "scene.frames=2", "--repeats", "1", "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
     assert report["bare_replays_run"] is True and report["replayed_inputs"] > 0
-    assert [r["name"] for r in report["rows"]] == ["bare", "loop", "loop+friction", "full"]
-    assert report["python_layer_ratio"] == report["rows"][-1]["ratio_vs_bare"] > 0.0
+    assert [r["name"] for r in report["rows"]] == ["bare", "c_step", "loop", "loop+friction", "full"]
+    walls = {r["name"]: r["wall"] for r in report["rows"]}
+    assert report["python_layer_ratio"] == report["rows"][-1]["ratio_vs_bare"] == walls["full"] / walls["bare"] > 0.0
+    assert report["layer_ratio_vs_c_step"] == walls["full"] / walls["c_step"]
     assert report["pymunk_steps"] == round(report["sim_time"] / 0.0005)
     assert cli_main(["bench", "overhead", str(PAPER), "--set", "sim.fidelity=reduced", "--repeats", "1"]) == 2

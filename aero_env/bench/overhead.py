@@ -12,10 +12,16 @@ by switching its per-step work off one piece at a time:
 | row                 | what runs                                                           |
 |---------------------|---------------------------------------------------------------------|
 | ``bare``            | ``space.step`` only, through the same run                           |
+| ``c_step``          | Chipmunk's ``cpSpaceStep`` only, as the runner calls it (pymunk's   |
+|                     | ``Space.step`` is Python around it, which the runner skips)         |
 | ``loop``            | the runner with one friction coefficient and checks every 1 s (its  |
 |                     | own, slightly different run: kinetic friction throughout)           |
 | ``loop+friction``   | ... plus the static/kinetic switch, once per runner step            |
 | ``full``            | the run as configured (checks every ``sim.check_interval``)          |
+
+``python_layer_ratio`` is ``full`` against ``bare``: what the runner costs over plain pymunk.
+``layer_ratio_vs_c_step`` is ``full`` against ``c_step``, the C engine alone: it counts pymunk's own
+wrapper as part of the layer, so it is the stricter of the two.
 
 The rows are timed in turn within each of ``repeats`` rounds, so a machine that gets busier or
 quieter during the call moves them alike; each time is the median over the rounds and every ratio
@@ -26,6 +32,8 @@ from __future__ import annotations
 
 import statistics
 import time
+
+from pymunk._chipmunk_cffi import lib as _cp
 
 from ..config import Config, ConfigError
 from ..physics import World
@@ -40,21 +48,35 @@ _VARIANTS = {
 }
 
 
-def replay(world: World, inputs: list, steps: int) -> None:
+cpSpaceStep = _cp.cpSpaceStep
+
+
+def replay(world: World, inputs: list, steps: int, c_step: bool = False) -> None:
     """Step a freshly built ``world`` through a run of ``steps`` runner steps with bare ``space.step``
-    calls, applying the run's ``inputs`` (``World.inputs``) where its runner made them."""
-    space_step, dt, substeps = world.space.step, world.p.dt, world.p.substeps
+    calls, applying the run's ``inputs`` (``World.inputs``) where its runner made them. ``c_step``: call
+    Chipmunk's ``cpSpaceStep`` instead, as the runner does, except for the first step and the first after
+    each input (pymunk's ``Space.step`` then checks the bodies a window move added, as in ``World.step``)."""
+    wrapper, dt, substeps = world.space.step, world.p.dt, world.p.substeps
+    c, cs = cpSpaceStep, world.space._space
+
+    def steps_to(n: int) -> None:
+        if n > 0 and c_step:
+            wrapper(dt)
+            for _ in range(n - 1):
+                c(cs, dt)
+        else:
+            for _ in range(n):
+                wrapper(dt)
+
     done = 0
     for at, what, value in inputs:
-        for _ in range((at - done) * substeps):
-            space_step(dt)
+        steps_to((at - done) * substeps)
         done = at
         if what == "active":
             world.set_active(value)
         else:  # "friction"
             world.contact.hook_shape.friction = value
-    for _ in range((steps - done) * substeps):
-        space_step(dt)
+    steps_to((steps - done) * substeps)
 
 
 def _timed(fn) -> float:
@@ -71,23 +93,28 @@ def overhead(cfg: Config, repeats: int = 5) -> dict:
     recorded = World(cfg)
     run = simulate_mbd(cfg, world=recorded)
     inputs, steps = list(recorded.inputs), recorded.steps
-    check = World(cfg)
-    replay(check, inputs, steps)
-    replays = check.energy() == run.energy["final"]  # every live body's state enters the energy
+    replays = True
+    for c_step in (False, True):
+        check = World(cfg)
+        replay(check, inputs, steps, c_step)
+        replays &= check.energy() == run.energy["final"]  # every live body's state enters the energy
 
     configs = {"full": cfg, **{name: cfg.replace(over) for name, over in _VARIANTS.items()}}
-    times: dict[str, list[float]] = {"bare": [], **{name: [] for name in configs}}
+    times: dict[str, list[float]] = {"bare": [], "c_step": [], **{name: [] for name in configs}}
     for _ in range(repeats):
         world = World(cfg)  # building the world is not stepping it
         times["bare"].append(_timed(lambda: replay(world, inputs, steps)))
+        world = World(cfg)
+        times["c_step"].append(_timed(lambda: replay(world, inputs, steps, c_step=True)))
         for name, c in configs.items():
             times[name].append(_timed(lambda: simulate(c)))
     wall = {name: statistics.median(ts) for name, ts in times.items()}
     n = steps * cfg.sim.substeps  # pymunk steps the run took
     rows = [dict(name=name, wall=wall[name], per_pymunk_step_us=1e6 * wall[name] / n,
-                 ratio_vs_bare=wall[name] / wall["bare"]) for name in ("bare", *_VARIANTS, "full")]
+                 ratio_vs_bare=wall[name] / wall["bare"]) for name in ("bare", "c_step", *_VARIANTS, "full")]
     return dict(fidelity=cfg.sim.fidelity, pymunk_steps=n, sim_time=run.sim_time, outcome=run.outcome,
                 realtime_factor=run.sim_time / wall["full"], python_layer_ratio=wall["full"] / wall["bare"],
+                layer_ratio_vs_c_step=wall["full"] / wall["c_step"],
                 bare_replays_run=replays, replayed_inputs=len(inputs), repeats=repeats, rows=rows)
 
 
@@ -100,4 +127,6 @@ def table(report: dict) -> str:
              f"{'':>14} {'wall ms':>8} {'us/step':>8} {'x bare':>7}"]
     for r in report["rows"]:
         lines.append(f"{r['name']:>14} {1e3 * r['wall']:8.1f} {r['per_pymunk_step_us']:8.2f} {r['ratio_vs_bare']:7.2f}")
+    lines.append(f"python layer: {report['python_layer_ratio']:.2f}x bare space.step; "
+                 f"{report['layer_ratio_vs_c_step']:.2f}x the C step alone")
     return "\n".join(lines)
