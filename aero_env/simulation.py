@@ -15,7 +15,7 @@ and the models; neither of them imports it.
 
 from __future__ import annotations
 
-from .config import Config, ConfigError
+from .config import Config, ConfigError, pymunk_fidelities
 from .physics import SimResult
 from .physics import simulate as simulate_mbd
 
@@ -25,8 +25,8 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None)
     if cfg.sim.model == "reduced":
         if trace or poses_every:
             raise ConfigError(f"sim.fidelity = {cfg.sim.fidelity!r} (sim.model = reduced) has no trace or animation: "
-                              f"it never builds the machine's bodies; use a pymunk fidelity (mbd-fast, mbd, mbd-fine, "
-                              f"reference) for --trace, --plot, --gif or rendering")
+                              f"it never builds the machine's bodies; use a pymunk fidelity "
+                              f"({pymunk_fidelities()}) for --trace, --plot, --gif or rendering")
         from .models.reduced import simulate_reduced
 
         return simulate_reduced(cfg)

@@ -14,8 +14,13 @@ every setting: a design whose count jumps back and forth as the step shrinks is 
 catch decided by a hair), one that is wrong at 30 iterations and right at 120 at every step is
 limited by the solver's iterations, one that turns right below some step by the step.
 
+``--near CONFIG --spread S`` draws the designs around that config's design instead, as ``bench
+accuracy --near`` does (the same sample for the same seed): there a setting meets the close calls a
+tuner meets.
+
     python benchmarks/step_agreement.py --designs 200 --seed 11 --jobs 2
     python benchmarks/step_agreement.py --settings 0.5/30,0.5/120,0.25/60 --json
+    python benchmarks/step_agreement.py --designs 100 --seed 4 --near configs/paper.yaml --spread 0.15 --settings 1/30,0.5/30
 """
 
 from __future__ import annotations
@@ -59,9 +64,10 @@ def _run(job) -> tuple[int, str, int, float]:
     return i, name, r.traversals, time.perf_counter() - t0
 
 
-def step_agreement(config: str, designs: int, seed: int, settings: list[tuple[float, int]], jobs: int) -> dict:
+def step_agreement(config: str, designs: int, seed: int, settings: list[tuple[float, int]], jobs: int,
+                   near: str | None = None, spread: float = 0.1) -> dict:
     base = load_config(config)
-    sample = draw_designs(base, designs, seed)
+    sample = draw_designs(base, designs, seed, near=None if near is None else load_config(near), spread=spread)
     names = {f"{dt * 1e3:g}/{it}": {"sim.dt": dt, "sim.iterations": it, "sim.substeps": 1} for dt, it in settings}
     rungs = {REFERENCE: fidelity_overrides(REFERENCE), REFINED: fidelity_overrides(REFINED), **names}
     work = [(i, name, cfg.replace(over)) for name, over in rungs.items() for i, cfg in enumerate(sample.configs)]
@@ -81,11 +87,12 @@ def step_agreement(config: str, designs: int, seed: int, settings: list[tuple[fl
                          wrong=wrong))
     missed = sorted({i for r in rows for i in r["wrong"]})
     return dict(config=config, designs=designs, seed=seed, jobs=jobs, converged_designs=len(converged), rows=rows,
+                sample="uniform" if near is None else f"near {near} ±{spread:g}", reference_counts=ref,
                 missed={i: {name: counts[name][i] for name in rungs} for i in missed})
 
 
 def table(rep: dict) -> str:
-    lines = [f"{rep['designs']} uniform designs of {rep['config']} (seed {rep['seed']}); agreement with the reference "
+    lines = [f"{rep['designs']} designs of {rep['config']} ({rep['sample']}, seed {rep['seed']}); agreement with the reference "
              f"over the {rep['converged_designs']} whose count reference/2 confirms",
              f"{'dt ms/iter':>12} {'agree':>7} {'s/design':>9} {'x ref':>6}"]
     for r in rep["rows"]:
@@ -103,18 +110,24 @@ def table(rep: dict) -> str:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("config", nargs="?", default="configs/paper.yaml")
-    ap.add_argument("--designs", type=int, default=200, help="uniform designs from the action box (default: 200)")
+    ap.add_argument("--designs", type=int, default=200, help="designs, uniform from the action box unless --near "
+                    "(default: 200)")
     ap.add_argument("--seed", type=int, default=11, help="seed of the design draw (default: 11)")
     ap.add_argument("--settings", default=DEFAULT_SETTINGS, help=f"DT_MS/ITERATIONS,... (default: {DEFAULT_SETTINGS})")
     ap.add_argument("--jobs", type=int, default=1, help="processes (default: 1)")
+    ap.add_argument("--near", metavar="CONFIG", help="draw the designs around this config's design")
+    ap.add_argument("--spread", type=float, default=0.1, help="with --near: ± this fraction of each action range "
+                    "(default: 0.1)")
     ap.add_argument("--json", action="store_true", help="one JSON object instead of the table")
     args = ap.parse_args(argv)
     try:
         for option, value in (("--designs", args.designs), ("--jobs", args.jobs)):
             if value < 1:
                 raise ConfigError(f"{option} = {value}: must be at least 1")
+        if args.near is None and args.spread != 0.1:
+            raise ConfigError(f"--spread {args.spread!r}: only with --near")
         settings = parse_settings(args.settings)
-        rep = step_agreement(args.config, args.designs, args.seed, settings, args.jobs)
+        rep = step_agreement(args.config, args.designs, args.seed, settings, args.jobs, args.near, args.spread)
     except ConfigError as exc:
         print(f"step_agreement: {exc}", file=sys.stderr)
         return 2

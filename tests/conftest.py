@@ -13,6 +13,9 @@ from aero_env.physics import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "configs" / "paper.yaml"
+# The default pymunk world at twice its step: the cheapest run the prototype survives (the former mbd-fast rung,
+# which left the ladder: docs/fidelity.md). Tests that need many cheap pymunk runs, not the default's accuracy, use it.
+COARSE = {"sim.fidelity": "mbd", "sim.dt": 0.001}
 
 
 @pytest.fixture(scope="session")

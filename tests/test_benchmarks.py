@@ -88,3 +88,21 @@ def test_step_agreement_scores_each_setting_against_the_reference_on_its_converg
         assert counts["2/5"] != counts["reference"] == counts["reference/2"]
     assert coarse["agreement_converged"] == 1.0 - len(coarse["wrong"]) / r["converged_designs"]
     assert "--settings: '2/x'" in _bench("step_agreement.py", "--settings", "2/x", expect=2)
+
+
+def test_step_agreement_near_a_design_runs_the_designs_bench_accuracy_draws_there():
+    # --near draws around the config's design, as bench accuracy --near does: the reference's counts are those of
+    # draw_designs' near sample run here at the reference
+    from aero_env.bench.designs import draw_designs
+    from aero_env.config import load_config
+    from aero_env.simulation import simulate
+
+    r = _bench("step_agreement.py", PAPER, "--designs", "3", "--seed", "4", "--near", PAPER, "--spread", "0.05",
+               "--settings", "0.5/30", "--jobs", "2", "--json")
+    base = load_config(PAPER)
+    sample = draw_designs(base, 3, 4, near=base, spread=0.05)
+    assert r["sample"] == f"near {PAPER} ±0.05"
+    assert r["reference_counts"] == [simulate(c.replace({"sim.fidelity": "reference"})).traversals
+                                     for c in sample.configs]
+    assert sum(r["reference_counts"]) >= 6  # near the prototype the designs run whole rows, unlike uniform ones
+    assert "only with --near" in _bench("step_agreement.py", "--spread", "0.2", expect=2)

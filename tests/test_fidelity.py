@@ -37,8 +37,8 @@ def test_the_ladder_runs_cheapest_first_and_mbd_is_the_default():
 
 
 def test_a_field_set_beside_the_preset_wins_and_choosing_a_fidelity_moves_its_fields():
-    fast = load_config(PAPER, {"sim.fidelity": "mbd-fast", "sim.iterations": 40})
-    assert fast.sim.iterations == 40 and fast.sim.dt == FIDELITY_PRESETS["mbd-fast"]["dt"]
+    fine = load_config(PAPER, {"sim.fidelity": "mbd-fine", "sim.iterations": 40})
+    assert fine.sim.iterations == 40 and fine.sim.dt == FIDELITY_PRESETS["mbd-fine"]["dt"]
     # a file that names sim.dt, then --set sim.fidelity: the preset's numbers, not the file's
     listed = from_dict({"sim": {"dt": 0.0004, "iterations": 12}})
     assert (listed.sim.dt, listed.sim.iterations) == (0.0004, 12)
@@ -46,7 +46,7 @@ def test_a_field_set_beside_the_preset_wins_and_choosing_a_fidelity_moves_its_fi
     assert ref.sim.dt == FIDELITY_PRESETS["reference"]["dt"]
     assert ref.sim.iterations == FIDELITY_PRESETS["reference"]["iterations"]
     # a config written out names only what departs from its preset, so replace() moves the rest
-    assert "dt" not in load_config(PAPER).to_dict()["sim"] and fast.to_dict()["sim"]["iterations"] == 40
+    assert "dt" not in load_config(PAPER).to_dict()["sim"] and fine.to_dict()["sim"]["iterations"] == 40
     assert load_config(PAPER).replace({"sim.fidelity": "mbd-fine"}).sim.dt == FIDELITY_PRESETS["mbd-fine"]["dt"]
 
 
@@ -120,10 +120,19 @@ def test_the_env_runs_at_the_configs_fidelity():
 
 
 def test_simulate_prints_the_fidelity_it_ran(capsys):
-    assert cli_main(["simulate", str(PAPER), "--set", "scene.frames=3", "--set", "sim.fidelity=mbd-fast",
+    assert cli_main(["simulate", str(PAPER), "--set", "scene.frames=3", "--set", "sim.fidelity=mbd-fine",
                      "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["fidelity"] == "mbd-fast" and out["outcome"] == "completed"
+    assert out["fidelity"] == "mbd-fine" and out["outcome"] == "completed"
+
+
+def test_a_rung_that_left_the_ladder_is_refused_with_why_and_what_to_use_instead(capsys):
+    # mbd-fast left the ladder (docs/fidelity.md): naming it is one line that says so and gives the same step
+    assert cli_main(["simulate", str(PAPER), "--set", "sim.fidelity=mbd-fast"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "sim.fidelity = 'mbd-fast': left the ladder" in err
+    assert "sim.fidelity=mbd with sim.dt=0.001" in err and "'reduced', 'mbd', 'mbd-fine', 'reference'" in err
+    assert "mbd-fast" not in FIDELITY_PRESETS
 
 
 # ---- the benchmarks ----
@@ -157,11 +166,11 @@ def _first_detach(info) -> tuple[float, float]:
 def test_bench_accuracy_reports_every_fidelity_against_the_reference(capsys, tmp_path):
     plot = tmp_path / "pareto.png"
     assert cli_main(["bench", "accuracy", str(PAPER), "--designs", "3", "--seed", str(BENCH_SEED), "--repeats", "1",
-                     "--set", "scene.frames=3", "--fidelities", "mbd-fast,mbd", "--json", "--plot", str(plot)]) == 0
+                     "--set", "scene.frames=3", "--fidelities", "mbd,mbd-fine", "--json", "--plot", str(plot)]) == 0
     rep = json.loads(capsys.readouterr().out)
     assert rep["default"] == "mbd" and rep["designs"] == 3 and plot.stat().st_size > 10_000
     rows = {r["name"]: r for r in rep["fidelities"]}
-    assert list(rows) == ["mbd-fast", "mbd", "reference"]
+    assert list(rows) == ["mbd", "mbd-fine", "reference"]
     runs = {name: _env_runs({"scene.frames": 3, "sim.fidelity": name}, 3) for name in rows}
     ref = runs["reference"]
     assert rep["reference_outcomes"] == dict(Counter(i["outcome"] for i in ref))
@@ -192,7 +201,7 @@ def test_bench_accuracy_near_a_design_and_on_converged_designs(capsys):
     # whose count the refined reference confirms. Both recomputed here through env.step.
     scene = {"scene.frames": 3}
     assert cli_main(["bench", "accuracy", str(PAPER), "--designs", "4", "--seed", "0", "--repeats", "1", "--set",
-                     "scene.frames=3", "--fidelities", "mbd-fast", "--check-reference", "--near", str(PAPER),
+                     "scene.frames=3", "--fidelities", "mbd", "--check-reference", "--near", str(PAPER),
                      "--spread", "0.05", "--json"]) == 0
     rep = json.loads(capsys.readouterr().out)
     assert rep["sample"] == f"near {PAPER} ±0.05"
@@ -220,13 +229,13 @@ def test_bench_accuracy_near_a_design_and_on_converged_designs(capsys):
     ref = counts({"sim.fidelity": "reference"})
     refined = counts({"sim.fidelity": "reference", "sim.dt": FIDELITY_PRESETS["reference"]["dt"] / 2,
                       "sim.iterations": 2 * FIDELITY_PRESETS["reference"]["iterations"]})
-    fast = counts({"sim.fidelity": "mbd-fast"})
+    default = counts({"sim.fidelity": "mbd"})
     assert sum(ref) >= 4, ref  # near the prototype the designs traverse (over the whole box most fail at once)
     converged = [i for i in range(4) if ref[i] == refined[i]]
     rows = {r["name"]: r for r in rep["fidelities"]}
     assert rep["converged_designs"] == len(converged) >= 1
-    assert rows["mbd-fast"]["outcome_agreement_converged"] == pytest.approx(
-        np.mean([fast[i] == ref[i] for i in converged]))
+    assert rows["mbd"]["outcome_agreement_converged"] == pytest.approx(
+        np.mean([default[i] == ref[i] for i in converged]))
     assert rows["reference"]["outcome_agreement_converged"] == 1.0
     # --spread alone, or outside (0, 1], is refused before any design runs
     for argv, needle in ((["--spread", "0.1"], "only with --near"), (["--near", str(PAPER), "--spread", "0"],

@@ -17,7 +17,7 @@ import gymnasium as gym
 import numpy as np
 import aero_env
 
-envs = gym.make_vec("aero_env/AerialAcrobat-v0", num_envs=4{workers}, **{{"scene.frames": 3, "sim.fidelity": "mbd-fast"}})
+envs = gym.make_vec("aero_env/AerialAcrobat-v0", num_envs=4{workers}, **{{"scene.frames": 3, "sim.dt": 0.001}})
 obs, info = envs.reset(seed=0)
 obs, rewards, terminated, truncated, info = envs.step(np.zeros((4, envs.single_action_space.shape[0]), np.float32))
 print("rewards", rewards.tolist())

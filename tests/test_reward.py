@@ -16,7 +16,7 @@ from aero_env.models.reduced import simulate_batch
 from aero_env.simulation import simulate
 from aero_env.reward import batch_reward, reward, rewards
 
-from .conftest import PAPER, ROOT
+from .conftest import COARSE, PAPER, ROOT
 from .test_physics import CATCH_LETS_GO
 
 W = 0.5
@@ -34,9 +34,10 @@ def _adversary_module():
 ADV = _adversary_module()
 
 
-def _random_steps(fidelity: str, designs: int, seed: int = 3):
-    """(outcome, traversals, miss_distance, reward) of random designs on a 3-frame prototype scene."""
-    env = AerialAcrobatEnv(PAPER, {"scene.frames": 3, "sim.fidelity": fidelity, "env.reward_shaping": W})
+def _random_steps(fidelity: dict, designs: int, seed: int = 3):
+    """(outcome, traversals, miss_distance, reward) of random designs on a 3-frame prototype scene at ``fidelity``
+    (config overrides)."""
+    env = AerialAcrobatEnv(PAPER, {"scene.frames": 3, **fidelity, "env.reward_shaping": W})
     out = []
     for a in np.random.default_rng(seed).uniform(-1, 1, (designs, env.space.dim)):
         env.reset(seed=0)
@@ -47,7 +48,7 @@ def _random_steps(fidelity: str, designs: int, seed: int = 3):
 
 # ---- 1. shaping pays only real flights ----
 def test_a_hook_that_never_let_go_earns_no_partial_credit():
-    runs = _random_steps("mbd-fast", 40)
+    runs = _random_steps(COARSE, 40)
     hung = [(o, t, m, r) for o, t, m, r in runs if o in HUNG]
     flown = [(o, t, m, r) for o, t, m, r in runs if o in FLIGHT_MISSES]
     # the hung runs have a miss distance the old rule paid for (w·(1 - miss/pitch) > 0) ...
@@ -75,7 +76,7 @@ def test_reward_rules_and_bad_input():
 
 
 # ---- 2. one reward function: the screen scores what env.step pays ----
-@pytest.mark.parametrize("fidelity, designs", [("reduced", 16), ("mbd-fast", 8)])
+@pytest.mark.parametrize("fidelity, designs", [("reduced", 16), ("mbd", 8)])
 def test_screen_scores_every_design_as_env_step_pays_it(fidelity, designs):
     from agents.tune import TuneSettings, screen
 
@@ -104,7 +105,7 @@ def test_screen_scores_every_design_as_env_step_pays_it(fidelity, designs):
 
 # ---- 3. the adversary ----
 def test_the_audit_rejects_a_reward_no_run_backs():
-    cfg = load_config(PAPER, {"scene.frames": 3, "sim.fidelity": "mbd-fast", "env.reward_shaping": W})
+    cfg = load_config(PAPER, {"scene.frames": 3, **COARSE, "env.reward_shaping": W})
     env = AerialAcrobatEnv(cfg)
     runs = {}
     for a in np.random.default_rng(3).uniform(-1, 1, (40, env.space.dim)):
@@ -139,9 +140,9 @@ def test_the_audit_rejects_a_reward_no_run_backs():
 
 
 def test_cma_es_on_the_shaped_reward_finds_nothing_the_audit_rejects():
-    """CMA-ES (as aero-env tune runs it) on the prototype scene at mbd-fast, 36 trials; then every design it
+    """CMA-ES (as aero-env tune runs it) on the prototype scene at a 1 ms step (COARSE), 36 trials; then every design it
     tried, its best first, re-run with its trace and audited apart from aero_env.reward."""
-    cfg = load_config(PAPER, {"sim.fidelity": "mbd-fast", "env.reward_shaping": W})
+    cfg = load_config(PAPER, {**COARSE, "env.reward_shaping": W})
     trials = ADV.adversary(cfg, 36, seed=1)
     audited = ADV.audit_top(cfg, trials, top=len(trials))
     assert [a["problems"] for a in audited if a["problems"]] == []

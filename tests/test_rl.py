@@ -16,7 +16,7 @@ from stable_baselines3 import PPO
 
 from agents.rl import TrainSettings, evaluate, load_run, make_env, train
 
-from .conftest import PAPER
+from .conftest import COARSE, PAPER
 
 VARIED_SHORT = {"scene.frames": 3, "context": [{"name": "scene.rise", "low": 0.0, "high": 0.004},
                                                {"name": "design.m2", "low": 0.0065, "high": 0.009}]}
@@ -61,9 +61,9 @@ def test_short_ppo_trains_saves_loads_and_evaluates_deterministically(scene, tmp
 
 # A varied scene cut down to one choice that must follow one observation: the robot's mass is drawn
 # (6.2-11 g) and observed, the counterbalance is chosen (5-12 g). Measured before writing the test
-# (mbd-fast, 3 frames, m3 swept over 3-15 g by 0.5 g): the whole row needs 6-7.5 g for a 6.2 g robot,
+# (a 1 ms step, 3 frames, m3 swept over 3-15 g by 0.5 g): the whole row needs 6-7.5 g for a 6.2 g robot,
 # 7-9.5 g for 7.7 g and 9.5-11.5 g for 11 g, so no single counterbalance suits every draw.
-BALANCE = {"scene.frames": 3, "sim.fidelity": "mbd-fast",
+BALANCE = {"scene.frames": 3, **COARSE,
            "tunable": [{"name": "design.m3", "low": 0.005, "high": 0.012}],
            "context": [{"name": "design.m2", "low": 0.0062, "high": 0.011}]}
 
@@ -271,7 +271,7 @@ def test_the_progress_bar_counts_the_whole_rollouts_ppo_takes(tmp_path, monkeypa
     monkeypatch.setattr(sb3_callbacks, "tqdm", Bar)
     settings = TrainSettings(algo="ppo", timesteps=40, seed=0, eval_every=0, progress=True,
                              hyperparameters={"n_steps": 16, "batch_size": 16}).check()
-    cfg = load_config(PAPER, {"scene.frames": 2, "sim.fidelity": "mbd-fast"})
+    cfg = load_config(PAPER, {"scene.frames": 2, **COARSE})
     run = train(cfg, settings, tmp_path)
     assert run["timesteps_done"] == 48 and progress_plan(settings, 40)[0] == 48
     (bar,) = bars

@@ -4,7 +4,7 @@ a real server (tests/postgres_server.py) or file, makes the fault happen at a po
 storage (never after a sleep; the one sleep is the length of a fault, the SQLite file's lock held past SQLite's
 default wait), and checks the study the run, or its resume, leaves behind.
 
-Trials are cheap (3 frames at ``sim.fidelity=mbd-fast``, random search); every wait has a generous safety
+Trials are cheap (3 frames at a 1 ms step, ``COARSE``, random search); every wait has a generous safety
 limit that only a hung run reaches.
 """
 
@@ -28,10 +28,10 @@ from aero_env.config import load_config
 from agents.design_eval import DesignEvaluator
 from agents.study_storage import PROCESS_ATTR
 
-from .conftest import PAPER
+from .conftest import COARSE, PAPER
 from .postgres_server import PostgresMissing, postgres_cluster
 
-OVERRIDES = {"scene.frames": 3, "sim.fidelity": "mbd-fast"}
+OVERRIDES = {"scene.frames": 3, **COARSE}
 LIMIT_S = 240  # safety net for a hung run; a healthy one takes seconds
 
 

@@ -1,5 +1,5 @@
 """A tune starts from the config's own design, never ends worse than it, and (``--robust K``) scores designs on the
-same K hand-made builds (agents.tune, issue 25 §2). Tiny budgets: 3 frames at mbd-fast."""
+same K hand-made builds (agents.tune, issue 25 §2). Tiny budgets: 3 frames at a 1 ms step (COARSE)."""
 
 from __future__ import annotations
 
@@ -16,9 +16,9 @@ from aero_env.robustness.tolerances import DEFAULT_TOLERANCES
 from aero_env.simulation import simulate
 from agents.tune import TuneSettings, tune
 
-from .conftest import PAPER
+from .conftest import COARSE, PAPER
 
-FAST = {"scene.frames": 3, "sim.fidelity": "mbd-fast"}
+FAST = {"scene.frames": 3, **COARSE}
 QUIET = dict(progress=False)
 
 
@@ -46,7 +46,7 @@ def test_a_tune_that_cannot_beat_the_start_writes_the_configs_design_and_says_so
     # trial, another design, completes it too: a tie, which must not displace the config's design
     out = tmp_path / "b.yaml"
     done = subprocess.run([sys.executable, "-m", "aero_env.cli", "tune", str(PAPER), "--set", "scene.frames=3",
-                           "--set", "sim.fidelity=mbd-fast", "--trials", "2", "--seed", "3", "--out", str(out),
+                           "--set", "sim.dt=0.001", "--trials", "2", "--seed", "3", "--out", str(out),
                            "--no-progress"],
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr

@@ -15,12 +15,12 @@ from aero_env.config import ConfigError
 from aero_env.envs import AerialAcrobatEnv, AerialAcrobatVectorEnv
 from aero_env.envs.vector_info import stack_infos
 
-from .conftest import PAPER
+from .conftest import COARSE, PAPER
 
 ENV_ID = "aero_env/AerialAcrobat-v0"
 VARIED_ID = "aero_env/AerialAcrobatVaried-v0"  # draws context and tolerances: the seeds matter
 REDUCED = {"sim.fidelity": "reduced", "scene.frames": 3}
-MBD_FAST = {"sim.fidelity": "mbd-fast", "scene.frames": 2}  # one transfer: the cheapest pymunk run that scores
+MBD_FAST = {**COARSE, "scene.frames": 2}  # one transfer: the cheapest pymunk run that scores
 BATCH_ONLY_MISSING = {"swings", "energy", "health"}  # what a reduced batch keeps no record of (the class docstring)
 SEED = 7
 

@@ -35,7 +35,7 @@ import time
 
 from pymunk._chipmunk_cffi import lib as _cp
 
-from ..config import Config, ConfigError
+from ..config import Config, ConfigError, pymunk_fidelities
 from ..physics import World
 from ..physics.run import simulate as simulate_mbd
 from ..simulation import simulate
@@ -89,7 +89,7 @@ def overhead(cfg: Config, repeats: int = 5) -> dict:
     check_counts(repeats=repeats)
     if cfg.sim.model != "mbd":
         raise ConfigError(f"sim.fidelity = {cfg.sim.fidelity!r}: the overhead benchmark measures the pymunk world; "
-                          f"choose a pymunk fidelity (mbd-fast, mbd, mbd-fine, reference)")
+                          f"choose a pymunk fidelity ({pymunk_fidelities()})")
     recorded = World(cfg)
     run = simulate_mbd(cfg, world=recorded)
     inputs, steps = list(recorded.inputs), recorded.steps

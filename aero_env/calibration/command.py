@@ -16,7 +16,7 @@ from __future__ import annotations
 import json
 import sys
 
-from ..config import Config, ConfigError
+from ..config import Config, ConfigError, pymunk_fidelities
 from ..scene_args import check_output, whole_number
 from . import report
 from .fit import check_box, fit, parse_fits, require_optuna
@@ -112,7 +112,7 @@ def _swing(text, reference, cfg: Config) -> int:
 def _check_traceable(cfg: Config) -> None:
     if cfg.sim.model != "mbd":
         raise ConfigError(f"sim.fidelity = {cfg.sim.fidelity!r}: calibrate needs a trace, which only the pymunk "
-                          f"fidelities record (mbd-fast, mbd, mbd-fine, reference)")
+                          f"fidelities record ({pymunk_fidelities()})")
 
 
 def _progress(done: int, best: float) -> None:

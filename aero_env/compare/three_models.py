@@ -13,7 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..config import Config, ConfigError
+from ..config import Config, ConfigError, pymunk_fidelities
 from ..models import quasi_static, two_link
 from ..models.two_link import SwingResult
 from .mbd import FLIGHT_ENTERED, mbd_swing
@@ -69,7 +69,7 @@ def compare(cfg: Config, swing: int = FLIGHT_ENTERED) -> tuple[dict, dict]:
         raise ConfigError(f"compare --swing {swing!r}: must be a whole number >= 0 (0: the first swing, from rest)")
     if cfg.sim.model != "mbd":
         raise ConfigError(f"sim.fidelity = {cfg.sim.fidelity!r}: compare's MBD model is the pymunk world; choose a "
-                          f"pymunk fidelity (mbd-fast, mbd, mbd-fine, reference)")
+                          f"pymunk fidelity ({pymunk_fidelities()})")
     mbd = mbd_swing(cfg, swing)
     mbd_drag = mbd_swing(cfg, swing, drag=True)
     qs, tl = analytical(cfg, mbd.start, mbd.angle)

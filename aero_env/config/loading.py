@@ -14,8 +14,8 @@ import yaml
 
 from .design_problem import (DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, ContextRange, Tolerance, Tunable,
                              build_list)
-from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, EnvOptions, Scene, Sim, check_design,
-                       check_sim, real_field)
+from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, REMOVED_FIDELITIES, SECTIONS, Design, EnvOptions, Scene,
+                       Sim, check_design, check_sim, real_field)
 from .validation import ConfigError, build_section, check_value, did_you_mean, range_text
 
 
@@ -145,7 +145,7 @@ def _apply_fidelity(tree: dict, overrides: Mapping[str, Any]) -> None:
     An override of ``sim.fidelity`` chooses that preset's numbers over the file's: the file's
     preset fields are dropped unless the same overrides set them too. So
     ``--set sim.fidelity=reference`` on a file that lists ``sim.dt`` runs at the reference step,
-    and ``--set sim.fidelity=mbd-fast --set sim.dt=0.0008`` runs mbd-fast at 0.8 ms.
+    and ``--set sim.fidelity=mbd-fine --set sim.dt=0.0002`` runs mbd-fine at 0.2 ms.
     """
     sim = tree.get("sim")
     if sim is None:
@@ -153,6 +153,8 @@ def _apply_fidelity(tree: dict, overrides: Mapping[str, Any]) -> None:
     if not isinstance(sim, dict):
         return  # build_section names the problem
     name = sim.get("fidelity", DEFAULT_FIDELITY)
+    if isinstance(name, str) and name in REMOVED_FIDELITIES:
+        raise ConfigError(f"sim.fidelity = {name!r}: {REMOVED_FIDELITIES[name]}; must be one of {list(FIDELITY_PRESETS)}")
     if not isinstance(name, str) or name not in FIDELITY_PRESETS:
         raise ConfigError(f"sim.fidelity = {name!r}: must be one of {list(FIDELITY_PRESETS)} (cheapest first)")
     preset = FIDELITY_PRESETS[name]

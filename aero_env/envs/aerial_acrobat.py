@@ -13,7 +13,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from ..config import Config, ConfigError, load_config
+from ..config import Config, ConfigError, load_config, pymunk_fidelities
 from ..design_space import DesignSpace, Draw
 from ..physics import SimResult, World
 from ..reward import reward  # the one reward function: the tuner's screen scores with it too
@@ -205,11 +205,10 @@ class AerialAcrobatEnv(gym.Env):
         if render_mode is not None and self.config.sim.model == "reduced":
             raise ConfigError(f"render_mode = {render_mode!r}: sim.fidelity = {self.config.sim.fidelity!r} never builds "
                               f"the machine's bodies, so there is nothing to draw; render at a pymunk fidelity "
-                              f"(mbd-fast, mbd, mbd-fine, reference)")
+                              f"({pymunk_fidelities()})")
         if self.config.env.record_trace and self.config.sim.model == "reduced":
             raise ConfigError(f"env.record_trace = True: sim.fidelity = {self.config.sim.fidelity!r} has no time series "
-                              f"(the reduced model keeps none); record at a pymunk fidelity (mbd-fast, mbd, mbd-fine, "
-                              f"reference)")
+                              f"(the reduced model keeps none); record at a pymunk fidelity ({pymunk_fidelities()})")
         self.render_mode = render_mode
         self.action_space = spaces.Box(-1.0, 1.0, (self.space.dim,), np.float32)
         self.observation_space = spaces.Box(-1.0, 1.0, (self.space.obs_dim,), np.float32)

@@ -44,7 +44,7 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
     runs one design per sub-env. At ``sim.fidelity: reduced`` the designs run in one call of the
     reduced model, and the step goes from the actions to the model's kernel in arrays, a field at a
     time over all sub-envs (:meth:`_run_columns`: no Config or dict per design); at a pymunk
-    fidelity (mbd-fast, mbd, mbd-fine, reference) the designs run one after another in this process, or, when
+    fidelity (mbd, mbd-fine, reference) the designs run one after another in this process, or, when
     ``workers`` > 1 is asked for, in a persistent pool of ``workers`` processes, one design each,
     gathered in sub-env order. Each run is a function of its config alone, so the pool changes
     only the time: rewards, observations and infos equal those of ``num_envs`` single envs with
