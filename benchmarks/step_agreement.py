@@ -37,6 +37,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from aero_env.bench.accuracy import REFERENCE, REFINED, fidelity_overrides  # noqa: E402
 from aero_env.bench.designs import draw_designs  # noqa: E402
 from aero_env.config import ConfigError, load_config  # noqa: E402
+from aero_env.physics.kernels import load_kernels  # noqa: E402
 from aero_env.simulation import simulate  # noqa: E402
 
 DEFAULT_SETTINGS = "0.5/30,0.5/60,0.5/120,0.25/30,0.25/60,0.125/30,0.125/120"
@@ -59,6 +60,7 @@ def parse_settings(text: str) -> list[tuple[float, int]]:
 
 def _run(job) -> tuple[int, str, int, float]:
     i, name, cfg = job
+    load_kernels()  # once per process, untimed
     t0 = time.perf_counter()
     r = simulate(cfg)
     return i, name, r.traversals, time.perf_counter() - t0

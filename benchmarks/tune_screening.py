@@ -22,6 +22,7 @@ from pathlib import Path
 
 from aero_env.config import load_config
 from aero_env.models.reduced import compile_kernels
+from aero_env.physics.kernels import load_kernels
 from agents.tune import tune
 from agents.tune_settings import TuneSettings
 
@@ -44,7 +45,8 @@ def main() -> None:
     ap.add_argument("--confirm", type=int, default=20)
     args = ap.parse_args()
     cfg = load_config(args.config)
-    compile_s = compile_kernels()  # the reduced kernel's one-time compile (or cache load) is not a tuning cost
+    # the reduced kernel's and the pymunk world's one-time compile (or cache load) is not a tuning cost
+    compile_s = compile_kernels() + load_kernels()
     runs = {"cmaes": [], "screened": []}
     for seed in range(args.seeds):
         plain = tune(cfg, TuneSettings(sampler="cmaes", trials=args.trials, seed=seed, progress=False))

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..config import DEFAULT_FIDELITY, FIDELITY_PRESETS, Config, ConfigError
+from ..physics.kernels import load_kernels
 from ..simulation import simulate
 from .designs import DesignSample, check_counts, draw_designs, median_time
 
@@ -96,6 +97,7 @@ def run_fidelity(sample: DesignSample, name: str, repeats: int, on_design=None) 
         if on_design:
             on_design(name, len(cfgs), len(cfgs))
         return runs
+    load_kernels()  # the pymunk world's compiled parts: their one-time load is no design's cost either
     for i, cfg in enumerate(cfgs):
         wall, r = median_time(lambda: simulate(cfg), repeats)
         t, th = _first_detach(r.swings)

@@ -22,6 +22,7 @@ effect's cost), and the designs whose traversal count the effect changes.
 from __future__ import annotations
 
 from ..config import Config
+from ..physics.kernels import load_kernels
 from ..simulation import simulate
 from .designs import check_counts, draw_designs, median_time
 
@@ -41,6 +42,7 @@ EFFECTS = {
 def effects(cfg: Config, designs: int = 30, seed: int = 0, repeats: int = 3) -> dict:
     check_counts(designs=designs, repeats=repeats)
     sample = draw_designs(cfg, designs, seed)
+    load_kernels()  # the pymunk world's compiled parts load once, outside every timed run
     rows = []
     for name, (key, on, off) in EFFECTS.items():
         walls = {"on": 0.0, "off": 0.0}

@@ -14,9 +14,10 @@ velocity plus the arm's spin times the radius) relative to the card's point unde
 face. A tip that turns in the corner while its centre stays put is sliding on both faces, and
 counts as such. The contact points come from geometry (the tip's centre against the faces of the
 frame it touches), not from a ``pre_solve`` callback, which would cross from C into Python for
-every touching face and build a contact point set each time. A scene that asks for one
-coefficient gets no switch at all: the coefficient is set on the shape and the C solver does the
-rest.
+every touching face and build a contact point set each time. The test itself is compiled
+(:mod:`.slip_kernel`, reading the two bodies' C structs): it runs before nine steps in ten. A scene
+that asks for one coefficient gets no switch at all: the coefficient is set on the shape and the C
+solver does the rest.
 
 The part also keeps track of which frame's handrail the tip touches (begin/separate
 callbacks), which is what the event detector reads; it costs nothing between contacts.
@@ -82,10 +83,10 @@ class StaticKineticFriction:
         self.frame_parts = tuple((f.body, f.faces, f.rail_radius) for f in contact.frames)
         # (the views read the live state; with another pymunk's layout, arrays the getters fill before each test)
         view = body_state.memory if body_state.MEMORY_LAYOUT_HOLDS else _GetterView
-        reach = self.hook.radius
+        tip_radius, band = self.hook.radius, self.contact_band
         self.frame_args = tuple(
-            (view(f.body), np.array([(*f.body.center_of_gravity, f.rail_radius, reach + f.rail_radius + self.contact_band,
-                                      0.0), *f.faces]))
+            (view(f.body), np.array([(*f.body.center_of_gravity, f.rail_radius, tip_radius + f.rail_radius + band, 0.0),
+                                     *f.faces]))
             for f in contact.frames)
         self.arm_view = view(self.arm)
         self._tip_slides = tip_slides

@@ -46,6 +46,7 @@ from .. import reasons as say
 from .. import units
 from ..config import Config
 from ..results import SimResult, Swing
+from .kernels import load_kernels
 from .monitors import TRACE_COLUMNS, Monitors, Recorder
 from .phases import Hanging, Run
 from .world import World
@@ -65,6 +66,7 @@ def simulate(cfg: Config, trace: bool = False, poses_every: float | None = None,
     than the thresholds they test (a 20 deg turn-back, a 0.3 s stop hold, a 1 s rest timeout),
     and on every step of a catch.
     """
+    load_kernels()  # the compiled parts' one-time load, before the clock
     wall0 = time.perf_counter()
     world = World(cfg) if world is None else world
     sim = cfg.sim

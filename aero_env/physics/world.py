@@ -12,6 +12,11 @@ further back have reached their stop and are retired from the space; frames furt
 wait at rest and are not in the space yet. The step loop itself has no per-effect branches: a
 part that must act once per step (the static/kinetic friction switch) hands the world its
 ``before_step``, and the world runs the ones it was given.
+
+A step calls Chipmunk's ``cpSpaceStep`` directly (:meth:`World.step` says when pymunk's wrapper is
+still needed), and a check's read of the world is compiled (:mod:`.check_kernel`), with
+:meth:`World.sample_python` as its reference: the runner's layer around pymunk costs about 0.4x of
+pymunk's own stepping (``aero-env bench overhead``).
 """
 
 from __future__ import annotations
