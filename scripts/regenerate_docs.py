@@ -16,6 +16,7 @@ with its error and leaves every page as it was.
     python scripts/regenerate_docs.py                  # every page
     python scripts/regenerate_docs.py docs/physics.md  # one page
     python scripts/regenerate_docs.py --list           # the commands, without running them
+    python scripts/regenerate_docs.py docs/fidelity.md --only step_agreement  # only the blocks whose command has it
 """
 
 from __future__ import annotations
@@ -42,6 +43,11 @@ def pages(names: list[str]) -> list[Path]:
     return found
 
 
+def shown(page: Path) -> str:
+    """The page's path as the repository names it (a page outside the repository: as given)."""
+    return str(page.relative_to(ROOT)) if page.is_relative_to(ROOT) else str(page)
+
+
 def run(cmd: str) -> str:
     env = dict(os.environ, PATH=f"{ROOT / '.venv' / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}",
                COLUMNS="100")
@@ -52,10 +58,12 @@ def run(cmd: str) -> str:
     return proc.stdout.rstrip("\n")
 
 
-def regenerate(page: Path) -> str:
+def regenerate(page: Path, only: str | None = None) -> str:
     text = page.read_text()
 
     def fill(m: re.Match) -> str:
+        if only is not None and only not in m["cmd"]:
+            return m.group(0)  # left as it was
         t0 = time.perf_counter()
         out = run(m["cmd"])
         print(f"  {time.perf_counter() - t0:6.1f} s  {m['cmd']}", file=sys.stderr)
@@ -68,6 +76,8 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("pages", nargs="*", help="pages to regenerate (default: README.md and docs/*.md)")
     ap.add_argument("--list", action="store_true", help="print the quoted commands and stop")
+    ap.add_argument("--only", metavar="TEXT", help="rerun only the commands that contain TEXT (the others' blocks "
+                    "stay as they are): for a block just added or changed")
     args = ap.parse_args(argv)
     todo = pages(args.pages)
     missing = [str(p) for p in todo if not p.is_file()]
@@ -77,12 +87,13 @@ def main(argv: list[str] | None = None) -> int:
     if args.list:
         for page in todo:
             for m in MARKER.finditer(page.read_text()):
-                print(f"{page.relative_to(ROOT)}: {m['cmd']}")
+                if args.only is None or args.only in m["cmd"]:
+                    print(f"{shown(page)}: {m['cmd']}")
         return 0
     new = {}
     for page in todo:  # every command first: a failure leaves every page as it was
-        print(page.relative_to(ROOT), file=sys.stderr)
-        new[page] = regenerate(page)
+        print(shown(page), file=sys.stderr)
+        new[page] = regenerate(page, args.only)
     for page, text in new.items():
         page.write_text(text)
     return 0

@@ -93,3 +93,15 @@ def test_check_env_on_a_headless_machine_says_nothing_about_the_display_library(
         assert done.stdout.splitlines() == ["(300, 720, 3) False", "checked"], done.stdout
         assert "XDG" not in done.stderr and "error" not in done.stderr.lower(), done.stderr
         assert done.stderr.count("WARN: render_mode='human' with no display") == 1, done.stderr
+
+
+def test_regenerate_docs_only_reruns_the_blocks_whose_command_has_the_text(tmp_path):
+    # scripts/regenerate_docs.py --only TEXT: the matching block gets its command's output, the others keep theirs
+    page = tmp_path / "page.md"
+    page.write_text("<!-- run: echo first -->\n```text\nstale one\n```\n\n"
+                    "<!-- run: echo second -->\n```text\nstale two\n```\n")
+    done = subprocess.run([sys.executable, str(ROOT / "scripts" / "regenerate_docs.py"), str(page), "--only", "second"],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert page.read_text() == ("<!-- run: echo first -->\n```text\nstale one\n```\n\n"
+                                "<!-- run: echo second -->\n```text\nsecond\n```\n")
