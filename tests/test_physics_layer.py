@@ -100,7 +100,9 @@ def test_the_runners_c_reads_are_pymunks_properties_bit_for_bit(paper_cfg):
 
 
 def test_python_hypot_is_math_hypot_bit_for_bit():
-    # the compiled switch's hypot (CPython's algorithm; numba's math.hypot is the C library's, which differs)
+    # the compiled switch's hypot (CPython's algorithm; numba's math.hypot is the C library's, which differs), over
+    # the normal range and the edge cases; pairs that are both subnormal can differ in the last bit (slip_kernel's
+    # docstring), and only these two are checked there
     import random
 
     from aero_env.physics.slip_kernel import python_hypot
