@@ -17,10 +17,11 @@ from aero_env.physics.run import simulate
 from .conftest import PAPER
 
 
-def pymunk_slip(law) -> float:
+def pymunk_slip(law, frames) -> float:
     """The slip asked of pymunk point by point (the switch's reading before it read each body once):
     the fastest sliding of the tip's contact point over any face of the touched frame it touches."""
-    body, faces, rail_radius = law.frame_parts[next(iter(law.touching))]
+    frame = frames[next(iter(law.touching))]
+    body, faces, rail_radius = frame.body, frame.faces, frame.rail_radius
     centre = law.arm.local_to_world(law.tip_local)
     local = body.world_to_local(centre)
     found, nearest = [], None
@@ -59,7 +60,7 @@ def test_the_switch_reads_the_slip_pymunk_would_give_bit_for_bit(paper_cfg, dt, 
     threshold, checked = law.slip_speed, 0
     while world.t < 1.6 and world.active < 2:
         if law.touching:
-            slip = pymunk_slip(law)
+            slip = pymunk_slip(law, world.frames)
             law.slip_speed = slip
             assert not law.slides(), world.steps
             if slip > 0.0:

@@ -11,8 +11,9 @@ its ``Body._body`` handle and cffi ``lib`` are what its own properties use.
 
 from __future__ import annotations
 
+import numpy as np
 import pymunk
-from pymunk._chipmunk_cffi import lib
+from pymunk._chipmunk_cffi import ffi, lib
 
 _position, _velocity = lib.cpBodyGetPosition, lib.cpBodyGetVelocity
 _angle, _spin = lib.cpBodyGetAngle, lib.cpBodyGetAngularVelocity
@@ -56,21 +57,18 @@ WORDS = 23
 def memory(body: pymunk.Body):
     """A float64 view of the body's C struct's first :data:`WORDS` words: each read of it is the live state.
     Valid while the body lives (the view holds the buffer, the world holds the body)."""
-    import numpy as np
-    from pymunk._chipmunk_cffi import ffi
-
     return np.frombuffer(ffi.buffer(body._body, WORDS * 8), dtype=np.float64)
 
 
 def address(body: pymunk.Body) -> int:
     """The address of the body's C struct, for compiled code that reads it (valid while the body lives)."""
-    from pymunk._chipmunk_cffi import ffi
-
     return int(ffi.cast("uintptr_t", body._body))
 
 
 def memory_state(m) -> tuple[float, float, float, float, float, float]:
-    """:func:`state` computed from a :func:`memory` view as the getters compute it (what compiled code does)."""
+    """:func:`state` computed from a :func:`memory` view (or, in compiled code, a pointer to the struct's words) as
+    the getters compute it. The compiled parts call it compiled (:mod:`.slip_kernel`), so this one function is
+    the struct read everywhere."""
     return (m[TA] * 0.0 + m[TC] * 0.0 + m[TX], m[TB] * 0.0 + m[TD] * 0.0 + m[TY], m[ANGLE], m[VX], m[VY], m[SPIN])
 
 

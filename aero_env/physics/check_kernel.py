@@ -22,8 +22,8 @@ import math
 from pathlib import Path
 
 from ..jit_cache import cache_dir, caching_in
-from .body_state import ANGLE, SPIN, TA, TB, TC, TD, TX, TY, VX, VY, WORDS
-from .slip_kernel import python_hypot
+from .body_state import WORDS
+from .slip_kernel import memory_state, python_hypot
 
 # consts: what the kernel needs besides the bodies, engine units
 GRAVITY, PARKED_ENERGY, ARM_LENGTH, TORSO_COM, M_TORSO, M_ARM, ALPHA_MAX, ALPHA_MIN, HOOK_RADIUS = range(9)
@@ -43,6 +43,13 @@ def words_at(address):
     return np.frombuffer(ffi.buffer(ffi.cast("double *", int(address)), WORDS * 8), dtype=np.float64)
 
 
+def body_energy(props, b, g, y, a, vx, vy, w):
+    """Body ``b``'s kinetic and potential energy (``World._energy_of``'s operations) and its speed squared."""
+    mass, moment, cgx, cgy = props[b, 0], props[b, 1], props[b, 2], props[b, 3]
+    v2 = vx * vx + vy * vy
+    return 0.5 * (mass * v2 + moment * w * w) + mass * g * (y + cgx * math.sin(a) + cgy * math.cos(a)), v2
+
+
 def read_world(addresses, props, live, touch, frame_table, faces, consts, out):
     """Fill ``out`` with the sample of the world whose bodies' structs are at ``addresses``.
 
@@ -57,9 +64,7 @@ def read_world(addresses, props, live, touch, frame_table, faces, consts, out):
     base = FRAME_STATES
     for k in range(live.shape[0]):  # the frames: state, health, energy
         i = live[k]
-        m = words_at(addresses[i])
-        x, y = m[TA] * 0.0 + m[TC] * 0.0 + m[TX], m[TB] * 0.0 + m[TD] * 0.0 + m[TY]
-        a, vx, vy, w = m[ANGLE], m[VX], m[VY], m[SPIN]
+        x, y, a, vx, vy, w = memory_state(words_at(addresses[i]))
         out[base], out[base + 1], out[base + 2], out[base + 3], out[base + 4], out[base + 5] = x, y, a, vx, vy, w
         base += 6
         d = python_hypot(x - frame_table[i, AXIS_X], y - frame_table[i, AXIS_Y])
@@ -72,24 +77,16 @@ def read_world(addresses, props, live, touch, frame_table, faces, consts, out):
             drift = d
         if o > over:
             over = o
-        mass, moment, cgx, cgy = props[i, 0], props[i, 1], props[i, 2], props[i, 3]
-        v2 = vx * vx + vy * vy
-        e += 0.5 * (mass * v2 + moment * w * w) + mass * g * (y + cgx * math.sin(a) + cgy * math.cos(a))
+        de, v2 = body_energy(props, i, g, y, a, vx, vy, w)
+        e += de
         if v2 > v2max:
             v2max = v2
     # the robot: torso, then arm
-    m = words_at(addresses[n_frames])
-    tx, ty = m[TA] * 0.0 + m[TC] * 0.0 + m[TX], m[TB] * 0.0 + m[TD] * 0.0 + m[TY]
-    ta, tvx, tvy, tw = m[ANGLE], m[VX], m[VY], m[SPIN]
-    m = words_at(addresses[n_frames + 1])
-    ax, ay = m[TA] * 0.0 + m[TC] * 0.0 + m[TX], m[TB] * 0.0 + m[TD] * 0.0 + m[TY]
-    aa, avx, avy, aw = m[ANGLE], m[VX], m[VY], m[SPIN]
-    for j in range(2):
-        b = n_frames + j
-        a, vx, vy, w, y = (ta, tvx, tvy, tw, ty) if j == 0 else (aa, avx, avy, aw, ay)
-        mass, moment, cgx, cgy = props[b, 0], props[b, 1], props[b, 2], props[b, 3]
-        v2 = vx * vx + vy * vy
-        e += 0.5 * (mass * v2 + moment * w * w) + mass * g * (y + cgx * math.sin(a) + cgy * math.cos(a))
+    tx, ty, ta, tvx, tvy, tw = memory_state(words_at(addresses[n_frames]))
+    ax, ay, aa, avx, avy, aw = memory_state(words_at(addresses[n_frames + 1]))
+    for b, y, a, vx, vy, w in ((n_frames, ty, ta, tvx, tvy, tw), (n_frames + 1, ay, aa, avx, avy, aw)):
+        de, v2 = body_energy(props, b, g, y, a, vx, vy, w)
+        e += de
         if v2 > v2max:
             v2max = v2
     # Robot.measure: the hook, the centre of mass, alpha, the axle's drift and the arm's overshoot
@@ -145,7 +142,7 @@ def _compile() -> None:
     from numba import njit, types
     from numba.extending import intrinsic
 
-    global words_at, read_world
+    global words_at, body_energy, read_world
     if numba.config.DISABLE_JIT:
         return
 
@@ -161,8 +158,8 @@ def _compile() -> None:
 
     # as slip_kernel's: no fastmath, no reference counting, numpy's division
     with caching_in(cache_dir(Path(__file__).parent, ("check_kernel.py", "slip_kernel.py", "body_state.py"))):
-        words_at = _words_at
-        read_world = njit(cache=True, error_model="numpy", _nrt=False)(read_world)
+        jit = njit(cache=True, error_model="numpy", _nrt=False)
+        words_at, body_energy, read_world = _words_at, jit(body_energy), jit(read_world)
 
 
 _compile()

@@ -76,11 +76,9 @@ class StaticKineticFriction:
         self.tip_local = tuple(self.hook.offset)
         self.arm_cog = tuple(self.arm.center_of_gravity)
         self.arm_data = np.array([*self.tip_local, *self.arm_cog])
-        # per frame index: (the frame's body, its handrail faces, the card's half-thickness) for readers, and what
-        # the compiled test takes: the body's struct view and one array of the frame's centre of gravity, the
-        # card's half-thickness, the reach within which a face line touches the tip's centre (the tip's and card's
-        # radii and the band) and the faces (slip_kernel.tip_slides)
-        self.frame_parts = tuple((f.body, f.faces, f.rail_radius) for f in contact.frames)
+        # per frame index, what the compiled test takes: the body's struct view and one array of the frame's centre of
+        # gravity, the card's half-thickness, the reach within which a face line touches the tip's centre (the tip's
+        # and card's radii and the band) and the faces (slip_kernel.tip_slides)
         # (the views read the live state; with another pymunk's layout, arrays the getters fill before each test)
         view = body_state.memory if body_state.MEMORY_LAYOUT_HOLDS else _GetterView
         tip_radius, band = self.hook.radius, self.contact_band

@@ -26,7 +26,8 @@ import math
 from pathlib import Path
 
 from ..jit_cache import cache_dir, caching_in
-from .body_state import ANGLE, SPIN, TA, TB, TC, TD, TX, TY, VX, VY
+from . import body_state
+from .body_state import memory_state
 
 _T27 = 134217729.0  # 2**27 + 1: Veltkamp's splitter for a double's 53-bit significand
 _DBL_MIN = 2.2250738585072014e-308
@@ -85,6 +86,18 @@ def python_hypot(a, b):
     x = csum - 1.0 + (frac1 + frac2 + frac3)
     return unscale * ((h + x / (2.0 * h)) / scale)
 
+def nearest_on_face(face, lx, ly):
+    """The point of ``face``'s centre line nearest (lx, ly), frame-local: min(max(along, 0), length) written as
+    the comparisons Python's min and max make, ties and NaN alike."""
+    x0, y0, ux, uy, length = face[0], face[1], face[2], face[3], face[4]
+    along = (lx - x0) * ux + (ly - y0) * uy
+    if 0.0 > along:
+        along = 0.0
+    if length < along:
+        along = length
+    return x0 + along * ux, y0 + along * uy
+
+
 def face_slides(face, lx, ly, gap, qx, qy, fc, fs, fx, fy, rail_radius, arm_gx, arm_gy, frame_gx, frame_gy,
                 avx, avy, aw, fvx, fvy, fw, threshold):
     """Whether the tip, its centre at (lx, ly) in the frame and ``gap`` from the face's nearest point (qx, qy),
@@ -109,12 +122,8 @@ def tip_slides(arm, frame, arm_data, frame_data, threshold):
     sliding decides; with no face within reach (the contact callbacks say the tip touches this frame) the
     nearest face is the one it touches."""
     # each body's state as cpBodyGetPosition, cpBodyGetAngle, cpBodyGetVelocity, cpBodyGetAngularVelocity give it
-    ax = arm[TA] * 0.0 + arm[TC] * 0.0 + arm[TX]
-    ay = arm[TB] * 0.0 + arm[TD] * 0.0 + arm[TY]
-    arm_angle, avx, avy, aw = arm[ANGLE], arm[VX], arm[VY], arm[SPIN]
-    fx = frame[TA] * 0.0 + frame[TC] * 0.0 + frame[TX]
-    fy = frame[TB] * 0.0 + frame[TD] * 0.0 + frame[TY]
-    frame_angle, fvx, fvy, fw = frame[ANGLE], frame[VX], frame[VY], frame[SPIN]
+    ax, ay, arm_angle, avx, avy, aw = memory_state(arm)
+    fx, fy, frame_angle, fvx, fvy, fw = memory_state(frame)
     ac, as_ = math.cos(arm_angle), math.sin(arm_angle)
     fc, fs = math.cos(frame_angle), math.sin(frame_angle)
     # the tip's centre in the world (arm.local_to_world), then in the frame (body.world_to_local)
@@ -130,13 +139,7 @@ def tip_slides(arm, frame, arm_data, frame_data, threshold):
     touched, nearest, nearest_gap = False, -1, 0.0
     for i in range(1, frame_data.shape[0]):
         face = frame_data[i]
-        x0, y0, ux, uy, length = face[0], face[1], face[2], face[3], face[4]
-        along = (lx - x0) * ux + (ly - y0) * uy
-        if 0.0 > along:  # min(max(along, 0.0), length), ties and NaN alike
-            along = 0.0
-        if length < along:
-            along = length
-        qx, qy = x0 + along * ux, y0 + along * uy  # nearest point of the face's centre line
+        qx, qy = nearest_on_face(face, lx, ly)
         gap = python_hypot(lx - qx, ly - qy)
         if gap <= reach:
             touched = True
@@ -148,13 +151,7 @@ def tip_slides(arm, frame, arm_data, frame_data, threshold):
     if touched:
         return False
     face = frame_data[nearest]
-    x0, y0, ux, uy, length = face[0], face[1], face[2], face[3], face[4]
-    along = (lx - x0) * ux + (ly - y0) * uy
-    if 0.0 > along:
-        along = 0.0
-    if length < along:
-        along = length
-    qx, qy = x0 + along * ux, y0 + along * uy
+    qx, qy = nearest_on_face(face, lx, ly)
     return face_slides(face, lx, ly, python_hypot(lx - qx, ly - qy), qx, qy, fc, fs, fx, fy, rail_radius, arm_gx,
                        arm_gy, frame_gx, frame_gy, avx, avy, aw, fvx, fvy, fw, threshold)
 
@@ -166,9 +163,12 @@ def _compile() -> None:
     # by zero gives inf as numpy does (none happens: every division here is guarded). numba resolves the calls
     # between them when it compiles, by which time each name below is the compiled function.
     jit = njit(cache=True, error_model="numpy", _nrt=False)
-    global python_hypot, face_slides, tip_slides
+    global memory_state, python_hypot, nearest_on_face, face_slides, tip_slides
     with caching_in(cache_dir(Path(__file__).parent, ("slip_kernel.py", "body_state.py"))):
-        python_hypot, face_slides, tip_slides = jit(python_hypot), jit(face_slides), jit(tip_slides)
+        # body_state's struct read, compiled here for the kernels (body_state itself keeps the Python one)
+        memory_state = jit(body_state.memory_state)
+        python_hypot, nearest_on_face = jit(python_hypot), jit(nearest_on_face)
+        face_slides, tip_slides = jit(face_slides), jit(tip_slides)
 
 
 _compile()
