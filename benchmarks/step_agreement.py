@@ -9,6 +9,9 @@ taken over them, as ``bench accuracy``'s ``conv.`` column. Every setting runs th
 the designs run in ``--jobs`` processes (each run is a function of its config alone, so the jobs
 change only the time).
 
+Each agreement comes with its 95 % Wilson interval (:mod:`aero_env.bench.intervals`): the agreements the
+sample cannot rule out, which is what decides whether a setting meets a target such as 99 %.
+
 Beside the table, each converged design that some setting gets wrong is listed with its count at
 every setting: a design whose count jumps back and forth as the step shrinks is chaotic there (a
 catch decided by a hair), one that is wrong at 30 iterations and right at 120 at every step is
@@ -36,6 +39,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from aero_env.bench.accuracy import REFERENCE, REFINED, fidelity_overrides  # noqa: E402
 from aero_env.bench.designs import draw_designs  # noqa: E402
+from aero_env.bench.intervals import interval_text, wilson_interval  # noqa: E402
 from aero_env.config import ConfigError, load_config  # noqa: E402
 from aero_env.physics.kernels import load_kernels  # noqa: E402
 from aero_env.simulation import simulate  # noqa: E402
@@ -81,10 +85,15 @@ def step_agreement(config: str, designs: int, seed: int, settings: list[tuple[fl
             walls[name] += wall
     ref = counts[REFERENCE]
     converged = [i for i in range(designs) if ref[i] == counts[REFINED][i]]
+    if not converged:
+        raise ConfigError(f"no converged design: reference and reference/2 disagree on all {designs}; draw more designs")
     rows = []
     for name in rungs:
         wrong = [i for i in converged if counts[name][i] != ref[i]]
-        rows.append(dict(setting=name, agreement_converged=1.0 - len(wrong) / len(converged),
+        right = len(converged) - len(wrong)
+        rows.append(dict(setting=name, agreement_converged=right / len(converged),
+                         agreement_interval_95=(None if name in (REFERENCE, REFINED) else
+                                                list(wilson_interval(right, len(converged)))),
                          wall_per_design=walls[name] / designs, speedup_vs_reference=walls[REFERENCE] / walls[name],
                          wrong=wrong))
     missed = sorted({i for r in rows for i in r["wrong"]})
@@ -96,9 +105,10 @@ def step_agreement(config: str, designs: int, seed: int, settings: list[tuple[fl
 def table(rep: dict) -> str:
     lines = [f"{rep['designs']} designs of {rep['config']} ({rep['sample']}, seed {rep['seed']}); agreement with the reference "
              f"over the {rep['converged_designs']} whose count reference/2 confirms",
-             f"{'dt ms/iter':>12} {'agree':>7} {'s/design':>9} {'x ref':>6}"]
+             f"{'dt ms/iter':>12} {'agree':>7} {'95% CI':>11} {'s/design':>9} {'x ref':>6}"]
     for r in rep["rows"]:
-        lines.append(f"{r['setting']:>12} {100 * r['agreement_converged']:6.1f}% {r['wall_per_design']:9.4f} "
+        lines.append(f"{r['setting']:>12} {100 * r['agreement_converged']:6.1f}% "
+                     f"{interval_text(r['agreement_interval_95']):>11} {r['wall_per_design']:9.4f} "
                      f"{r['speedup_vs_reference']:6.1f}")
     if rep["missed"]:
         names = list(next(iter(rep["missed"].values())))

@@ -10,6 +10,8 @@ from pathlib import Path
 
 import pytest
 
+from aero_env.bench.intervals import wilson_interval
+
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = str(ROOT / "configs" / "paper.yaml")
 
@@ -87,6 +89,11 @@ def test_step_agreement_scores_each_setting_against_the_reference_on_its_converg
         counts = r["missed"][str(i)]
         assert counts["2/5"] != counts["reference"] == counts["reference/2"]
     assert coarse["agreement_converged"] == 1.0 - len(coarse["wrong"]) / r["converged_designs"]
+    # with its 95 % interval over the same designs (none for the two rows that agree by construction)
+    lo, hi = coarse["agreement_interval_95"]
+    assert (lo, hi) == pytest.approx(wilson_interval(r["converged_designs"] - len(coarse["wrong"]),
+                                                     r["converged_designs"])) and lo <= coarse["agreement_converged"] <= hi
+    assert rows["reference"]["agreement_interval_95"] is None is rows["reference/2"]["agreement_interval_95"]
     assert "--settings: '2/x'" in _bench("step_agreement.py", "--settings", "2/x", expect=2)
 
 

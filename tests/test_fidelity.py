@@ -10,6 +10,7 @@ import numba
 import numpy as np
 import pytest
 
+from aero_env.bench.intervals import wilson_interval
 from aero_env.cli import main as cli_main
 from aero_env.config import FIDELITY_PRESETS, ConfigError, from_dict, load_config
 from aero_env.physics import World, simulate
@@ -237,6 +238,19 @@ def test_bench_accuracy_near_a_design_and_on_converged_designs(capsys):
     assert rows["mbd"]["outcome_agreement_converged"] == pytest.approx(
         np.mean([default[i] == ref[i] for i in converged]))
     assert rows["reference"]["outcome_agreement_converged"] == 1.0
+    # each agreement carries its 95 % interval (tests/test_intervals.py checks the interval itself): around the
+    # share it was computed for, over as many designs as that share
+    share, (lo, hi) = rows["mbd"]["outcome_agreement_converged"], rows["mbd"]["outcome_agreement_converged_interval"]
+    assert lo <= share <= hi and (lo, hi) == pytest.approx(wilson_interval(round(share * len(converged)),
+                                                                            len(converged)))
+    # the table prints it beside conv., and none for the rows that agree by construction
+    assert cli_main(["bench", "accuracy", str(PAPER), "--designs", "4", "--seed", "0", "--repeats", "1", "--set",
+                     "scene.frames=3", "--fidelities", "mbd", "--check-reference", "--near", str(PAPER),
+                     "--spread", "0.05"]) == 0
+    table = {line.split()[0].rstrip("*"): line.split() for line in capsys.readouterr().out.splitlines()
+             if line.split()[1:2] == ["mbd"]}
+    assert table["mbd"][9] == f"{100 * lo:.1f}-{100 * hi:.1f}" and table["reference"][9] == "-"
+    assert table["reference/2"][9] == "-"
     # --spread alone, or outside (0, 1], is refused before any design runs
     for argv, needle in ((["--spread", "0.1"], "only with --near"), (["--near", str(PAPER), "--spread", "0"],
                                                                      "allowed (0, 1]")):

@@ -20,6 +20,10 @@ agreement over the designs whose traversal count ``reference`` and ``reference/2
 (``converged_designs``). A design on an outcome boundary, where a change of step decides the
 count at any step size, has no right answer to agree with; it is left out of that figure.
 
+Each agreement comes with its 95 % interval (``*_interval``, :mod:`.intervals`): on a few dozen
+designs one design moves the column by a point or more, and the interval says which targets the
+sample can tell apart.
+
 ``near`` (``--near CONFIG --spread S``) draws the designs in a box of ±S of each action range
 around that config's design instead of over the whole box (:func:`.designs.draw_designs`): where
 tuners spend their time once a design works. Random designs over the whole box mostly fail at the
@@ -37,6 +41,7 @@ from ..config import DEFAULT_FIDELITY, FIDELITY_PRESETS, Config, ConfigError
 from ..physics.kernels import load_kernels
 from ..simulation import simulate
 from .designs import DesignSample, check_counts, draw_designs, median_time
+from .intervals import interval_text, wilson_interval
 
 REFERENCE = "reference"
 REFINED = "reference/2"
@@ -127,9 +132,10 @@ def summarise(runs: FidelityRuns, ref: FidelityRuns, converged: list[int] | None
     n = len(runs.traversals)
     wall, sim_time = float(np.sum(runs.wall)), float(np.sum(runs.sim_time))
     ref_wall = float(np.sum(ref.wall))
+    same = sum(a == b for a, b in zip(runs.traversals, ref.traversals))
     return dict(
         name=runs.name, model=runs.model, dt=runs.dt, iterations=runs.iterations, substeps=runs.substeps,
-        outcome_agreement=sum(a == b for a, b in zip(runs.traversals, ref.traversals)) / n,
+        outcome_agreement=same / n, outcome_agreement_interval=list(wilson_interval(same, n)),
         outcome_label_agreement=sum(a == b and c == d for a, b, c, d in
                                     zip(runs.traversals, ref.traversals, runs.outcomes, ref.outcomes)) / n,
         disagreements=[dict(design=i, traversals=a, reference=b, outcome=o, reference_outcome=ro)
@@ -142,8 +148,16 @@ def summarise(runs: FidelityRuns, ref: FidelityRuns, converged: list[int] | None
         realtime_factor=sim_time / wall if wall > 0 else None,
         speedup_vs_reference=ref_wall / wall if wall > 0 else None,
         mean_traversals=float(np.mean(runs.traversals)),
-    ) | ({} if converged is None else dict(outcome_agreement_converged=(
-        sum(runs.traversals[i] == ref.traversals[i] for i in converged) / len(converged) if converged else None)))
+    ) | ({} if converged is None else _converged_agreement(runs, ref, converged))
+
+
+def _converged_agreement(runs: FidelityRuns, ref: FidelityRuns, converged: list[int]) -> dict:
+    """The agreement over the converged designs, and its 95 % interval (None: no design converged)."""
+    if not converged:
+        return dict(outcome_agreement_converged=None, outcome_agreement_converged_interval=None)
+    same = sum(runs.traversals[i] == ref.traversals[i] for i in converged)
+    return dict(outcome_agreement_converged=same / len(converged),
+                outcome_agreement_converged_interval=list(wilson_interval(same, len(converged))))
 
 
 def accuracy(cfg: Config, designs: int = 50, seed: int = 0, repeats: int = 3, fidelities=None,
@@ -199,9 +213,11 @@ def reference_convergence(ref: FidelityRuns, refined: FidelityRuns) -> dict:
 
 def table(report: dict) -> str:
     conv_col = "converged_designs" in report
+    # the interval belongs to the headline column: conv. where the reference was checked, agree otherwise
     head = (f"{'fidelity':>12} {'model':>7} {'dt ms':>7} {'iter':>4} {'s/design':>9} {'x real':>7} "
-            f"{'x ref':>7} {'agree':>6}" + (f" {'conv.':>6}" if conv_col else "") +
+            f"{'x ref':>7} {'agree':>6}" + (f" {'conv.':>6}" if conv_col else "") + f" {'95% CI':>11}"
             f" {'t_det err ms (med/p95)':>23} {'th_det err deg':>15}")
+    interval_key = "outcome_agreement_converged_interval" if conv_col else "outcome_agreement_interval"
     lines = [f"{report['designs']} designs ({report.get('sample', 'uniform')}, seed {report['seed']}), "
              f"{report['frames']} frames, median of {report['repeats']} runs each; default fidelity: "
              f"{report['default']}", head]
@@ -213,7 +229,9 @@ def table(report: dict) -> str:
         lines.append(f"{r['name'] + mark:>12} {r['model']:>7} {r['dt'] * 1e3:7.4f} {r['iterations']:>4} "
                      f"{r['wall_per_design']:9.4f} {r['realtime_factor']:7.1f} {r['speedup_vs_reference']:7.1f} "
                      f"{100 * r['outcome_agreement']:5.1f}%" + (f" {_percent(r['outcome_agreement_converged'])}"
-                                                                if conv_col else "") + f" {terr:>23} {aerr:>15}")
+                                                                if conv_col else "") +
+                     f" {_interval(None if tautology(r['name'], conv_col) else r[interval_key])}"
+                     f" {terr:>23} {aerr:>15}")
     conv = report.get("reference_converged")
     if conv:
         te = conv["detach_time_error"]
@@ -223,11 +241,23 @@ def table(report: dict) -> str:
                      f"{'converged' if conv['converged'] else 'NOT converged'}")
         lines.append(f"conv.: agreement over the {report['converged_designs']} of {report['designs']} designs whose "
                      f"traversal count reference and reference/2 agree on")
+    lines.append(f"95% CI: the Wilson interval of the {'conv.' if conv_col else 'agree'} column, the agreements this "
+                 f"sample cannot rule out (none where a row agrees by construction)")
     return "\n".join(lines)
 
 
 def _percent(x: float | None) -> str:
     return f"{'-':>6}" if x is None else f"{100 * x:5.1f}%"
+
+
+def tautology(name: str, conv_col: bool) -> bool:
+    """Whether a row's headline agreement is 100 % by construction: the reference against itself, and its
+    refinement over the designs chosen for agreeing with it."""
+    return name == REFERENCE or (conv_col and name == REFINED)
+
+
+def _interval(bounds: list | None) -> str:
+    return f"{interval_text(bounds):>11}"
 
 
 def plot_pareto(report: dict, path: str) -> None:
