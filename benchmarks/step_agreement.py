@@ -24,6 +24,10 @@ tuner meets.
     python benchmarks/step_agreement.py --designs 200 --seed 11 --jobs 2
     python benchmarks/step_agreement.py --settings 0.5/30,0.5/120,0.25/60 --json
     python benchmarks/step_agreement.py --designs 100 --seed 4 --near configs/paper.yaml --spread 0.15 --settings 1/30,0.5/30
+    python benchmarks/step_agreement.py --designs 300 --seed 21 --near configs/paper.yaml --spread 0.15 --only 28,42 --settings 0.5/120
+
+``--only I,J`` runs only those designs of the sample (their indices in a whole run's list), to look at a few of
+them at more settings than a whole sample can afford.
 """
 
 from __future__ import annotations
@@ -71,12 +75,14 @@ def _run(job) -> tuple[int, str, int, float]:
 
 
 def step_agreement(config: str, designs: int, seed: int, settings: list[tuple[float, int]], jobs: int,
-                   near: str | None = None, spread: float = 0.1) -> dict:
+                   near: str | None = None, spread: float = 0.1, only: list[int] | None = None) -> dict:
     base = load_config(config)
     sample = draw_designs(base, designs, seed, near=None if near is None else load_config(near), spread=spread)
     names = {f"{dt * 1e3:g}/{it}": {"sim.dt": dt, "sim.iterations": it, "sim.substeps": 1} for dt, it in settings}
     rungs = {REFERENCE: fidelity_overrides(REFERENCE), REFINED: fidelity_overrides(REFINED), **names}
-    work = [(i, name, cfg.replace(over)) for name, over in rungs.items() for i, cfg in enumerate(sample.configs)]
+    # --only: these designs of the sample, by their index in it (the same designs a whole run lists)
+    indices = range(designs) if only is None else only
+    work = [(i, name, sample.configs[i].replace(over)) for name, over in rungs.items() for i in indices]
     counts: dict[str, list] = {name: [None] * designs for name in rungs}
     walls: dict[str, float] = {name: 0.0 for name in rungs}
     with ProcessPoolExecutor(jobs) as pool:
@@ -84,7 +90,7 @@ def step_agreement(config: str, designs: int, seed: int, settings: list[tuple[fl
             counts[name][i] = traversals
             walls[name] += wall
     ref = counts[REFERENCE]
-    converged = [i for i in range(designs) if ref[i] == counts[REFINED][i]]
+    converged = [i for i in indices if ref[i] == counts[REFINED][i]]
     if not converged:
         raise ConfigError(f"no converged design: reference and reference/2 disagree on all {designs}; draw more designs")
     rows = []
@@ -94,16 +100,19 @@ def step_agreement(config: str, designs: int, seed: int, settings: list[tuple[fl
         rows.append(dict(setting=name, agreement_converged=right / len(converged),
                          agreement_interval_95=(None if name in (REFERENCE, REFINED) else
                                                 list(wilson_interval(right, len(converged)))),
-                         wall_per_design=walls[name] / designs, speedup_vs_reference=walls[REFERENCE] / walls[name],
+                         wall_per_design=walls[name] / len(indices),
+                         speedup_vs_reference=walls[REFERENCE] / walls[name],
                          wrong=wrong))
     missed = sorted({i for r in rows for i in r["wrong"]})
-    return dict(config=config, designs=designs, seed=seed, jobs=jobs, converged_designs=len(converged), rows=rows,
+    return dict(config=config, designs=designs, seed=seed, jobs=jobs, only=only, converged_designs=len(converged),
+                rows=rows,
                 sample="uniform" if near is None else f"near {near} ±{spread:g}", reference_counts=ref,
                 missed={i: {name: counts[name][i] for name in rungs} for i in missed})
 
 
 def table(rep: dict) -> str:
-    lines = [f"{rep['designs']} designs of {rep['config']} ({rep['sample']}, seed {rep['seed']}); agreement with the reference "
+    which = f"{rep['designs']} designs" if rep["only"] is None else f"designs {_indices(rep['only'])} of {rep['designs']}"
+    lines = [f"{which} of {rep['config']} ({rep['sample']}, seed {rep['seed']}); agreement with the reference "
              f"over the {rep['converged_designs']} whose count reference/2 confirms",
              f"{'dt ms/iter':>12} {'agree':>7} {'95% CI':>11} {'s/design':>9} {'x ref':>6}"]
     for r in rep["rows"]:
@@ -119,6 +128,24 @@ def table(rep: dict) -> str:
     return "\n".join(lines)
 
 
+def _indices(only: list[int]) -> str:
+    return ",".join(str(i) for i in only)
+
+
+def parse_only(text: str | None, designs: int) -> list[int] | None:
+    """``"28,42"`` -> [28, 42]: designs of the drawn sample by index; a bad one is one line naming it."""
+    if text is None:
+        return None
+    try:
+        only = [int(x) for x in text.split(",")]
+    except ValueError:
+        raise ConfigError(f"--only {text!r}: design indices separated by commas, e.g. 28,42") from None
+    bad = [i for i in only if not 0 <= i < designs]
+    if bad or len(set(only)) != len(only):
+        raise ConfigError(f"--only {text!r}: each index once, in [0, {designs - 1}] for --designs {designs}")
+    return only
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("config", nargs="?", default="configs/paper.yaml")
@@ -130,6 +157,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--near", metavar="CONFIG", help="draw the designs around this config's design")
     ap.add_argument("--spread", type=float, default=0.1, help="with --near: ± this fraction of each action range "
                     "(default: 0.1)")
+    ap.add_argument("--only", metavar="I,J,...", help="run only these designs of the sample (their indices in a "
+                    "whole run's list), e.g. to see a few of them at more settings")
     ap.add_argument("--json", action="store_true", help="one JSON object instead of the table")
     args = ap.parse_args(argv)
     try:
@@ -139,7 +168,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.near is None and args.spread != 0.1:
             raise ConfigError(f"--spread {args.spread!r}: only with --near")
         settings = parse_settings(args.settings)
-        rep = step_agreement(args.config, args.designs, args.seed, settings, args.jobs, args.near, args.spread)
+        only = parse_only(args.only, args.designs)
+        rep = step_agreement(args.config, args.designs, args.seed, settings, args.jobs, args.near, args.spread, only)
     except ConfigError as exc:
         print(f"step_agreement: {exc}", file=sys.stderr)
         return 2

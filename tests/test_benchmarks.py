@@ -95,6 +95,16 @@ def test_step_agreement_scores_each_setting_against_the_reference_on_its_converg
                                                      r["converged_designs"])) and lo <= coarse["agreement_converged"] <= hi
     assert rows["reference"]["agreement_interval_95"] is None is rows["reference/2"]["agreement_interval_95"]
     assert "--settings: '2/x'" in _bench("step_agreement.py", "--settings", "2/x", expect=2)
+    # --only runs those designs of the same sample, and only them: the counts the whole run listed
+    some = ",".join(str(i) for i in coarse["wrong"])
+    part = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "2", "--settings", "2/5", "--only", some,
+                  "--jobs", "2", "--json")
+    assert part["only"] == coarse["wrong"] and part["converged_designs"] == len(coarse["wrong"])
+    assert {i: {k: c for k, c in row.items()} for i, row in part["missed"].items()} == {
+        i: {k: r["missed"][i][k] for k in ("reference", "reference/2", "2/5")} for i in part["missed"]}
+    assert [c is None for c in part["reference_counts"]] == [i not in coarse["wrong"] for i in range(6)]
+    for bad in ("6", "1,1", "x"):
+        assert "--only" in _bench("step_agreement.py", "--designs", "6", "--only", bad, expect=2)
 
 
 def test_step_agreement_near_a_design_runs_the_designs_bench_accuracy_draws_there():
