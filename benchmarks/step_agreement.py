@@ -25,6 +25,12 @@ tuner meets.
     python benchmarks/step_agreement.py --settings 0.5/30,0.5/120,0.25/60 --json
     python benchmarks/step_agreement.py --designs 100 --seed 4 --near configs/paper.yaml --spread 0.15 --settings 1/30,0.5/30
     python benchmarks/step_agreement.py --designs 300 --seed 21 --near configs/paper.yaml --spread 0.15 --only 28,42 --settings 0.5/120
+    python benchmarks/step_agreement.py --designs 300 --seed 21 --near configs/paper.yaml --spread 0.15 --builds 8
+
+``--builds K`` asks where the misses fall: each design is also built K times within the maker's tolerances
+(``aero-env robustness``'s default table and draws, seeded with ``--seed``) at the config's own fidelity, and each
+setting's agreement is split into the converged designs whose count every build keeps (*robust*: a maker who cuts
+it gets that count) and the rest (*fragile*: the card's tolerances already decide its count, whatever the step).
 
 ``--only I,J`` runs only those designs of the sample (their indices in a whole run's list), to look at a few of
 them at more settings than a whole sample can afford.
@@ -46,6 +52,8 @@ from aero_env.bench.designs import draw_designs  # noqa: E402
 from aero_env.bench.intervals import interval_text, wilson_interval  # noqa: E402
 from aero_env.config import ConfigError, load_config  # noqa: E402
 from aero_env.physics.kernels import load_kernels  # noqa: E402
+from aero_env.robustness.draws import build, draw_factors  # noqa: E402
+from aero_env.robustness.tolerances import DEFAULT_TOLERANCES  # noqa: E402
 from aero_env.simulation import simulate  # noqa: E402
 
 DEFAULT_SETTINGS = "0.5/30,0.5/60,0.5/120,0.25/30,0.25/60,0.125/30,0.125/120"
@@ -66,16 +74,36 @@ def parse_settings(text: str) -> list[tuple[float, int]]:
     return out
 
 
+BUILD = "build"  # the work items of --builds: (i, "build", k)
+
+
 def _run(job) -> tuple[int, str, int, float]:
     i, name, cfg = job
     load_kernels()  # once per process, untimed
     t0 = time.perf_counter()
-    r = simulate(cfg)
-    return i, name, r.traversals, time.perf_counter() - t0
+    try:
+        traversals = -1 if cfg is None else simulate(cfg).traversals
+    except ConfigError:  # a build the world cannot assemble: a changed outcome, as aero-env robustness counts it
+        traversals = -1
+    return i, name, traversals, time.perf_counter() - t0
+
+
+def tolerance_builds(sample, indices, builds: int, seed: int) -> list:
+    """The work of --builds: each design's nominal run and ``builds`` builds of it within the maker's tolerances
+    (``aero-env robustness``'s default table), all at the config's own fidelity. The same factor rows (drawn with
+    ``seed``) build every design; a build the config rejects is None (its count -1, a change)."""
+    factors = draw_factors(seed, builds, len(DEFAULT_TOLERANCES))
+    work = []
+    for i in indices:
+        cfg = sample.configs[i]
+        work.append((i, "nominal", cfg))
+        work += [(i, f"{BUILD} {k}", build(cfg, DEFAULT_TOLERANCES, row).config) for k, row in enumerate(factors)]
+    return work
 
 
 def step_agreement(config: str, designs: int, seed: int, settings: list[tuple[float, int]], jobs: int,
-                   near: str | None = None, spread: float = 0.1, only: list[int] | None = None) -> dict:
+                   near: str | None = None, spread: float = 0.1, only: list[int] | None = None,
+                   builds: int = 0) -> dict:
     base = load_config(config)
     sample = draw_designs(base, designs, seed, near=None if near is None else load_config(near), spread=spread)
     names = {f"{dt * 1e3:g}/{it}": {"sim.dt": dt, "sim.iterations": it, "sim.substeps": 1} for dt, it in settings}
@@ -83,42 +111,60 @@ def step_agreement(config: str, designs: int, seed: int, settings: list[tuple[fl
     # --only: these designs of the sample, by their index in it (the same designs a whole run lists)
     indices = range(designs) if only is None else only
     work = [(i, name, sample.configs[i].replace(over)) for name, over in rungs.items() for i in indices]
+    if builds:
+        work += tolerance_builds(sample, indices, builds, seed)
     counts: dict[str, list] = {name: [None] * designs for name in rungs}
     walls: dict[str, float] = {name: 0.0 for name in rungs}
+    built: dict[int, dict] = {i: {} for i in indices}  # --builds: design -> {"nominal" or "build k": count}
     with ProcessPoolExecutor(jobs) as pool:
         for i, name, traversals, wall in pool.map(_run, work, chunksize=8):
-            counts[name][i] = traversals
-            walls[name] += wall
+            if name in counts:
+                counts[name][i] = traversals
+                walls[name] += wall
+            else:
+                built[i][name] = traversals
     ref = counts[REFERENCE]
     converged = [i for i in indices if ref[i] == counts[REFINED][i]]
     if not converged:
         raise ConfigError(f"no converged design: reference and reference/2 disagree on all {designs}; draw more designs")
+    # --builds: a converged design is robust when every build keeps its nominal count at the config's fidelity
+    robust = [i for i in converged if builds and all(c == built[i]["nominal"] for c in built[i].values())]
+    groups = {"converged": converged} | ({"robust": robust, "fragile": [i for i in converged if i not in robust]}
+                                         if builds else {})
     rows = []
     for name in rungs:
-        wrong = [i for i in converged if counts[name][i] != ref[i]]
-        right = len(converged) - len(wrong)
-        rows.append(dict(setting=name, agreement_converged=right / len(converged),
-                         agreement_interval_95=(None if name in (REFERENCE, REFINED) else
-                                                list(wilson_interval(right, len(converged)))),
-                         wall_per_design=walls[name] / len(indices),
-                         speedup_vs_reference=walls[REFERENCE] / walls[name],
-                         wrong=wrong))
+        row = dict(setting=name)
+        for group, members in groups.items():
+            right = sum(counts[name][i] == ref[i] for i in members)
+            row[f"agreement_{group}"] = right / len(members) if members else None
+            row[f"agreement_{group}_interval_95"] = (None if name in (REFERENCE, REFINED) or not members else
+                                                     list(wilson_interval(right, len(members))))
+        rows.append(row | dict(wall_per_design=walls[name] / len(indices),
+                               speedup_vs_reference=walls[REFERENCE] / walls[name],
+                               wrong=[i for i in converged if counts[name][i] != ref[i]]))
     missed = sorted({i for r in rows for i in r["wrong"]})
     return dict(config=config, designs=designs, seed=seed, jobs=jobs, only=only, converged_designs=len(converged),
-                rows=rows,
+                builds=builds, robust_designs=robust if builds else None, rows=rows,
                 sample="uniform" if near is None else f"near {near} ±{spread:g}", reference_counts=ref,
                 missed={i: {name: counts[name][i] for name in rungs} for i in missed})
 
 
 def table(rep: dict) -> str:
     which = f"{rep['designs']} designs" if rep["only"] is None else f"designs {_indices(rep['only'])} of {rep['designs']}"
+    groups = ("converged", "robust", "fragile") if rep["builds"] else ("converged",)
     lines = [f"{which} of {rep['config']} ({rep['sample']}, seed {rep['seed']}); agreement with the reference "
-             f"over the {rep['converged_designs']} whose count reference/2 confirms",
-             f"{'dt ms/iter':>12} {'agree':>7} {'95% CI':>11} {'s/design':>9} {'x ref':>6}"]
+             f"over the {rep['converged_designs']} whose count reference/2 confirms"]
+    if rep["builds"]:
+        lines.append(f"robust: the {len(rep['robust_designs'])} of them that keep their count in all {rep['builds']} "
+                     f"builds within the maker's tolerances (aero-env robustness's table) at the config's fidelity; "
+                     f"fragile: the other {rep['converged_designs'] - len(rep['robust_designs'])}")
+    head = {"converged": "agree", "robust": "robust", "fragile": "fragile"}
+    lines.append(f"{'dt ms/iter':>12}" + "".join(f" {head[g]:>7} {'95% CI':>11}" for g in groups) +
+                 f" {'s/design':>9} {'x ref':>6}")
     for r in rep["rows"]:
-        lines.append(f"{r['setting']:>12} {100 * r['agreement_converged']:6.1f}% "
-                     f"{interval_text(r['agreement_interval_95']):>11} {r['wall_per_design']:9.4f} "
-                     f"{r['speedup_vs_reference']:6.1f}")
+        lines.append(f"{r['setting']:>12}" + "".join(
+            f" {_percent(r[f'agreement_{g}'])} {interval_text(r[f'agreement_{g}_interval_95']):>11}" for g in groups) +
+            f" {r['wall_per_design']:9.4f} {r['speedup_vs_reference']:6.1f}")
     if rep["missed"]:
         names = list(next(iter(rep["missed"].values())))
         lines += ["", "converged designs some setting gets wrong: the traversal count at each", "design " +
@@ -126,6 +172,10 @@ def table(rep: dict) -> str:
         for i, row in rep["missed"].items():
             lines.append(f"{i:>6} " + " ".join(f"{row[n]:>11}" for n in names))
     return "\n".join(lines)
+
+
+def _percent(x: float | None) -> str:
+    return f"{'-':>7}" if x is None else f"{100 * x:6.1f}%"
 
 
 def _indices(only: list[int]) -> str:
@@ -159,17 +209,23 @@ def main(argv: list[str] | None = None) -> int:
                     "(default: 0.1)")
     ap.add_argument("--only", metavar="I,J,...", help="run only these designs of the sample (their indices in a "
                     "whole run's list), e.g. to see a few of them at more settings")
+    ap.add_argument("--builds", type=int, default=0, metavar="K", help="also build each design K times within the "
+                    "maker's tolerances (aero-env robustness's default table) at the config's fidelity, and split the "
+                    "agreement into the designs whose count every build keeps (robust) and the rest (default: 0, off)")
     ap.add_argument("--json", action="store_true", help="one JSON object instead of the table")
     args = ap.parse_args(argv)
     try:
         for option, value in (("--designs", args.designs), ("--jobs", args.jobs)):
             if value < 1:
                 raise ConfigError(f"{option} = {value}: must be at least 1")
+        if not 0 <= args.builds <= 1000:
+            raise ConfigError(f"--builds {args.builds}: allowed 0 (off) to 1000")
         if args.near is None and args.spread != 0.1:
             raise ConfigError(f"--spread {args.spread!r}: only with --near")
         settings = parse_settings(args.settings)
         only = parse_only(args.only, args.designs)
-        rep = step_agreement(args.config, args.designs, args.seed, settings, args.jobs, args.near, args.spread, only)
+        rep = step_agreement(args.config, args.designs, args.seed, settings, args.jobs, args.near, args.spread, only,
+                             args.builds)
     except ConfigError as exc:
         print(f"step_agreement: {exc}", file=sys.stderr)
         return 2

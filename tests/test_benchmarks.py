@@ -90,10 +90,10 @@ def test_step_agreement_scores_each_setting_against_the_reference_on_its_converg
         assert counts["2/5"] != counts["reference"] == counts["reference/2"]
     assert coarse["agreement_converged"] == 1.0 - len(coarse["wrong"]) / r["converged_designs"]
     # with its 95 % interval over the same designs (none for the two rows that agree by construction)
-    lo, hi = coarse["agreement_interval_95"]
+    lo, hi = coarse["agreement_converged_interval_95"]
     assert (lo, hi) == pytest.approx(wilson_interval(r["converged_designs"] - len(coarse["wrong"]),
                                                      r["converged_designs"])) and lo <= coarse["agreement_converged"] <= hi
-    assert rows["reference"]["agreement_interval_95"] is None is rows["reference/2"]["agreement_interval_95"]
+    assert rows["reference"]["agreement_converged_interval_95"] is None is rows["reference/2"]["agreement_converged_interval_95"]
     assert "--settings: '2/x'" in _bench("step_agreement.py", "--settings", "2/x", expect=2)
     # --only runs those designs of the same sample, and only them: the counts the whole run listed
     some = ",".join(str(i) for i in coarse["wrong"])
@@ -105,6 +105,34 @@ def test_step_agreement_scores_each_setting_against_the_reference_on_its_converg
     assert [c is None for c in part["reference_counts"]] == [i not in coarse["wrong"] for i in range(6)]
     for bad in ("6", "1,1", "x"):
         assert "--only" in _bench("step_agreement.py", "--designs", "6", "--only", bad, expect=2)
+
+
+def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_change_a_designs_count():
+    # --builds K: a converged design is robust when all K builds keep its count at the config's fidelity. The
+    # builds are aero-env robustness's own draws (its default table, the same seed), recomputed here through it,
+    # and the robust/fragile agreements are the converged agreement over those two groups
+    from aero_env.bench.designs import draw_designs
+    from aero_env.config import load_config
+    from aero_env.robustness.study import assess
+    from aero_env.robustness.tolerances import DEFAULT_TOLERANCES
+
+    r = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "2", "--settings", "2/5", "--builds", "4",
+               "--jobs", "2", "--json")
+    sample = draw_designs(load_config(PAPER), 6, 2)
+    assert r["converged_designs"] == 6, "a design of this sample no longer converges: pick another seed"
+    converged = list(range(6))
+    robust = []
+    for i in converged:
+        study = assess(sample.configs[i], DEFAULT_TOLERANCES, draws=4, seed=2)
+        if all(run.traversals == study.nominal.traversals for run in study.runs):
+            robust.append(i)
+    assert r["builds"] == 4 and r["robust_designs"] == robust
+    assert 0 < len(robust) < len(converged), "the sample should hold robust and fragile designs: pick another seed"
+    coarse = next(row for row in r["rows"] if row["setting"] == "2/5")
+    fragile = [i for i in converged if i not in robust]
+    assert coarse["agreement_robust"] == sum(i not in coarse["wrong"] for i in robust) / len(robust)
+    assert coarse["agreement_fragile"] == sum(i not in coarse["wrong"] for i in fragile) / len(fragile)
+    assert "--builds -1" in _bench("step_agreement.py", "--builds", "-1", expect=2)
 
 
 def test_step_agreement_near_a_design_runs_the_designs_bench_accuracy_draws_there():
