@@ -9,7 +9,7 @@ taken over them, as ``bench accuracy``'s ``conv.`` column. Every setting runs th
 the designs run in ``--jobs`` processes (each run is a function of its config alone, so the jobs
 change only the time).
 
-Each agreement comes with its 95 % Wilson interval (:mod:`aero_env.bench.intervals`): the agreements the
+Each agreement comes with its 95 % Wilson interval (:mod:`aero_env.intervals`): the agreements the
 sample cannot rule out, which is what decides whether a setting meets a target such as 99 %.
 
 Beside the table, each converged design that some setting gets wrong is listed with its count at
@@ -49,7 +49,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from aero_env.bench.accuracy import REFERENCE, REFINED, fidelity_overrides  # noqa: E402
 from aero_env.bench.designs import draw_designs  # noqa: E402
-from aero_env.bench.intervals import interval_text, wilson_interval  # noqa: E402
+from aero_env.intervals import interval_text, wilson_interval  # noqa: E402
 from aero_env.config import ConfigError, load_config  # noqa: E402
 from aero_env.physics.kernels import load_kernels  # noqa: E402
 from aero_env.robustness.draws import build, draw_factors  # noqa: E402

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from aero_env.bench.intervals import wilson_interval
+from aero_env.intervals import wilson_interval
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = str(ROOT / "configs" / "paper.yaml")

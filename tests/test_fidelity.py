@@ -10,7 +10,7 @@ import numba
 import numpy as np
 import pytest
 
-from aero_env.bench.intervals import wilson_interval
+from aero_env.intervals import wilson_interval
 from aero_env.cli import main as cli_main
 from aero_env.config import FIDELITY_PRESETS, ConfigError, from_dict, load_config
 from aero_env.physics import World, simulate

@@ -24,7 +24,7 @@ from aero_env.config import load_config
 from aero_env.robustness import DEFAULT_TOLERANCES, Tol, assess, parse_tolerances
 from aero_env.robustness.progress import RunProgress
 from aero_env.robustness.draws import INVALID, build, draw_factors
-from aero_env.robustness.report import summarize, wilson
+from aero_env.robustness.report import summarize
 from aero_env.robustness.tolerances import check_against
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -183,12 +183,6 @@ def test_a_missing_file_or_bad_count_is_exit_2(args, monkeypatch, capsys):
     monkeypatch.setattr(aero_env.simulation, "simulate", _no_simulation)
     assert main(["robustness", str(PAPER), *args]) == 2
     assert capsys.readouterr().err.count("\n") == 1
-
-
-@pytest.mark.parametrize("k,n", [(0, 1), (0, 10), (3, 10), (87, 100), (100, 100), (1, 3), (499, 1000)])
-def test_wilson_interval_matches_scipy(k, n):
-    ref = binomtest(k, n).proportion_ci(confidence_level=0.95, method="wilson")
-    assert wilson(k, n) == pytest.approx((ref.low, ref.high), abs=1e-12)
 
 
 def test_the_report_uses_the_wilson_interval_of_its_counts():

@@ -41,7 +41,7 @@ from ..config import DEFAULT_FIDELITY, FIDELITY_PRESETS, Config, ConfigError
 from ..physics.kernels import load_kernels
 from ..simulation import simulate
 from .designs import DesignSample, check_counts, draw_designs, median_time
-from .intervals import interval_text, wilson_interval
+from ..intervals import interval_text, wilson_interval
 
 REFERENCE = "reference"
 REFINED = "reference/2"

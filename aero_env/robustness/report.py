@@ -13,24 +13,14 @@ interval), the outcome counts, and which parameters matter, two ways:
 
 from __future__ import annotations
 
-import math
 from collections import Counter
 
 from ..config import real_field
+from ..intervals import wilson_interval
 from .draws import INVALID
 from .study import Study
 
-Z95 = 1.959963984540054  # standard normal quantile at 0.975: a two-sided 95 % interval
 MAX_INVALID_REASONS = 3  # distinct invalid-build messages quoted in the report
-
-
-def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
-    """The Wilson score interval for k successes in n trials."""
-    p = k / n
-    denom = 1.0 + z * z / n
-    centre = (p + z * z / (2 * n)) / denom
-    half = z / denom * math.sqrt(p * (1.0 - p) / n + z * z / (4 * n * n))
-    return max(0.0, centre - half), min(1.0, centre + half)
 
 
 def _share(flags: list[bool]) -> float | None:
@@ -84,7 +74,7 @@ def summarize(study: Study, wall_time: float) -> dict:
     n = len(study.runs)
     k = sum(r.traversals >= study.full for r in study.runs)
     invalid = [r.reason for r in study.runs if r.outcome == INVALID]
-    return dict(draws=n, completed=k, share=k / n, share_ci95=list(wilson(k, n)),
+    return dict(draws=n, completed=k, share=k / n, share_ci95=list(wilson_interval(k, n)),
                 outcomes=dict(sorted(Counter(r.outcome for r in study.runs).items())),
                 full_traversals=study.full, fidelity=study.cfg.sim.fidelity,
                 nominal=dict(traversals=study.nominal.traversals, outcome=study.nominal.outcome,

@@ -68,7 +68,7 @@ def robustness_line(cfg: Config, config_name: str, draws: int, seed: int, progre
     if draws == 0:
         return "Robustness: not assessed (`--draws 0`)."
     from ..robustness.progress import RunProgress
-    from ..robustness.report import wilson
+    from ..intervals import wilson_interval
     from ..robustness.study import completed_builds
     from ..robustness.tolerances import DEFAULT_TOLERANCES
 
@@ -76,7 +76,7 @@ def robustness_line(cfg: Config, config_name: str, draws: int, seed: int, progre
         return completed_builds(c, DEFAULT_TOLERANCES, draws, seed, progress=RunProgress(label, progress))
 
     k = completed(cfg, "sheet: robustness")
-    lo, hi = wilson(k, draws)
+    lo, hi = wilson_interval(k, draws)
     line = (f"Robustness: **{k} of {draws}** builds within a hand-made toy's tolerances complete the row "
             f"({100 * k / draws:.0f} %, 95 % interval {100 * lo:.0f}-{100 * hi:.0f} %; "
             f"`aero-env robustness {config_name} --draws {draws} --seed {seed}` says which parts matter most).")

@@ -1,8 +1,9 @@
-"""How far a measured agreement can be trusted: a share of k designs in n, with its 95 % interval.
+"""How far a share measured on a sample can be trusted: k of n, with its 95 % interval.
 
-An agreement column measured on a few dozen designs moves a whole point per design, so a target of
-99 % cannot be read off a sample of 60 (59 of 60 agreeing is 98.3 %, and any share between 91 % and
-99.7 % would give that count often). The benchmarks print each agreement with its Wilson score
+A robustness study's share of builds that complete the row, and a benchmark's agreement with the
+reference, are counts of k in n. On a few dozen designs one design moves an agreement by a point or
+more, so a target of 99 % cannot be read off a sample of 60 (59 of 60 is 98.3 %, and any share
+between 91 % and 99.7 % would give that count often). Each is printed with its Wilson score
 interval: the shares p for which the count seen is within 1.96 standard errors of n·p. It stays
 inside [0, 1] and keeps its coverage at shares near 1, where the normal approximation
 (``p ± 1.96·sqrt(p(1-p)/n)``) gives a zero-width interval at 100 %.
