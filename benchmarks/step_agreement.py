@@ -32,6 +32,8 @@ tuner meets.
 setting's agreement is split into the converged designs whose count every build keeps (*robust*: a maker who cuts
 it gets that count) and the rest (*fragile*: the card's tolerances already decide its count, whatever the step).
 
+A setting named ``reduced`` is the reduced model's rung (its preset), on the same designs and builds.
+
 ``--only I,J`` runs only those designs of the sample (their indices in a whole run's list), to look at a few of
 them at more settings than a whole sample can afford.
 """
@@ -51,6 +53,7 @@ from aero_env.bench.accuracy import REFERENCE, REFINED, fidelity_overrides  # no
 from aero_env.bench.designs import draw_designs  # noqa: E402
 from aero_env.intervals import interval_text, wilson_interval  # noqa: E402
 from aero_env.config import ConfigError, load_config  # noqa: E402
+from aero_env.models import reduced  # noqa: E402
 from aero_env.physics.kernels import load_kernels  # noqa: E402
 from aero_env.robustness.draws import build, draw_factors  # noqa: E402
 from aero_env.robustness.tolerances import DEFAULT_TOLERANCES  # noqa: E402
@@ -59,19 +62,37 @@ from aero_env.simulation import simulate  # noqa: E402
 DEFAULT_SETTINGS = "0.5/30,0.5/60,0.5/120,0.25/30,0.25/60,0.125/30,0.125/120"
 
 
-def parse_settings(text: str) -> list[tuple[float, int]]:
-    """``"0.5/30,0.25/60"`` -> [(0.0005 s, 30), (0.00025 s, 60)]; a bad entry is one line naming it."""
+def parse_settings(text: str) -> list:
+    """``"0.5/30,0.25/60"`` -> [(0.0005 s, 30), (0.00025 s, 60)]; ``reduced`` stays the name of that rung (the
+    compiled reduced model at its preset); a bad entry is one line naming it."""
     out = []
     for item in text.split(","):
+        if item == "reduced":
+            out.append(item)
+            continue
         try:
             dt_ms, iterations = item.split("/")
             dt, it = float(dt_ms) / 1e3, int(iterations)
         except ValueError:
-            raise ConfigError(f"--settings: {item!r} must be DT_MS/ITERATIONS, e.g. 0.5/30") from None
+            raise ConfigError(f"--settings: {item!r} must be DT_MS/ITERATIONS (e.g. 0.5/30) or reduced") from None
         if not (0.0 < dt <= 0.002 and 1 <= it <= 1000):
             raise ConfigError(f"--settings: {item!r}: the step must be in (0, 2] ms and the iterations in [1, 1000]")
         out.append((dt, it))
     return out
+
+
+def setting_name(setting) -> str:
+    """A setting's column name: ``reduced``, or ``DT_MS/ITERATIONS``."""
+    return setting if setting == "reduced" else f"{setting[0] * 1e3:g}/{setting[1]}"
+
+
+def setting_overrides(setting) -> dict:
+    """What a setting sets in each design's config: the reduced rung's preset, or the pymunk world's step and
+    iterations with one pymunk step per runner step."""
+    if setting == "reduced":
+        return fidelity_overrides("reduced")
+    dt, iterations = setting
+    return {"sim.dt": dt, "sim.iterations": iterations, "sim.substeps": 1}
 
 
 BUILD = "build"  # the work items of --builds: (i, "build", k)
@@ -80,6 +101,8 @@ BUILD = "build"  # the work items of --builds: (i, "build", k)
 def _run(job) -> tuple[int, str, int, float]:
     i, name, cfg = job
     load_kernels()  # once per process, untimed
+    if name == "reduced":
+        reduced.compile_kernels()  # likewise: loaded from numba's cache once per process, untimed
     t0 = time.perf_counter()
     try:
         traversals = -1 if cfg is None else simulate(cfg).traversals
@@ -101,12 +124,12 @@ def tolerance_builds(sample, indices, builds: int, seed: int) -> list:
     return work
 
 
-def step_agreement(config: str, designs: int, seed: int, settings: list[tuple[float, int]], jobs: int,
+def step_agreement(config: str, designs: int, seed: int, settings: list, jobs: int,
                    near: str | None = None, spread: float = 0.1, only: list[int] | None = None,
                    builds: int = 0) -> dict:
     base = load_config(config)
     sample = draw_designs(base, designs, seed, near=None if near is None else load_config(near), spread=spread)
-    names = {f"{dt * 1e3:g}/{it}": {"sim.dt": dt, "sim.iterations": it, "sim.substeps": 1} for dt, it in settings}
+    names = {setting_name(setting): setting_overrides(setting) for setting in settings}
     rungs = {REFERENCE: fidelity_overrides(REFERENCE), REFINED: fidelity_overrides(REFINED), **names}
     # --only: these designs of the sample, by their index in it (the same designs a whole run lists)
     indices = range(designs) if only is None else only
@@ -202,7 +225,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--designs", type=int, default=200, help="designs, uniform from the action box unless --near "
                     "(default: 200)")
     ap.add_argument("--seed", type=int, default=11, help="seed of the design draw (default: 11)")
-    ap.add_argument("--settings", default=DEFAULT_SETTINGS, help=f"DT_MS/ITERATIONS,... (default: {DEFAULT_SETTINGS})")
+    ap.add_argument("--settings", default=DEFAULT_SETTINGS, help=f"DT_MS/ITERATIONS,... or reduced, the reduced "
+                    f"model's rung (default: {DEFAULT_SETTINGS})")
     ap.add_argument("--jobs", type=int, default=1, help="processes (default: 1)")
     ap.add_argument("--near", metavar="CONFIG", help="draw the designs around this config's design")
     ap.add_argument("--spread", type=float, default=0.1, help="with --near: ± this fraction of each action range "

@@ -116,14 +116,14 @@ def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_ch
     from aero_env.robustness.study import assess
     from aero_env.robustness.tolerances import DEFAULT_TOLERANCES
 
-    r = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "2", "--settings", "2/5", "--builds", "4",
-               "--jobs", "2", "--json")
-    sample = draw_designs(load_config(PAPER), 6, 2)
+    r = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "1", "--settings", "2/5,reduced", "--builds",
+               "4", "--jobs", "2", "--json")
+    sample = draw_designs(load_config(PAPER), 6, 1)
     assert r["converged_designs"] == 6, "a design of this sample no longer converges: pick another seed"
     converged = list(range(6))
     robust = []
     for i in converged:
-        study = assess(sample.configs[i], DEFAULT_TOLERANCES, draws=4, seed=2)
+        study = assess(sample.configs[i], DEFAULT_TOLERANCES, draws=4, seed=1)
         if all(run.traversals == study.nominal.traversals for run in study.runs):
             robust.append(i)
     assert r["builds"] == 4 and r["robust_designs"] == robust
@@ -132,6 +132,13 @@ def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_ch
     fragile = [i for i in converged if i not in robust]
     assert coarse["agreement_robust"] == sum(i not in coarse["wrong"] for i in robust) / len(robust)
     assert coarse["agreement_fragile"] == sum(i not in coarse["wrong"] for i in fragile) / len(fragile)
+    # a setting named reduced is the reduced model's rung, on the same designs
+    from aero_env.simulation import simulate
+
+    mine = [simulate(sample.configs[i].replace({"sim.fidelity": "reduced"})).traversals for i in converged]
+    by_reduced = next(row for row in r["rows"] if row["setting"] == "reduced")
+    assert by_reduced["wrong"] == [i for i, t in zip(converged, mine) if t != r["reference_counts"][i]] != [], \
+        "the reduced model should miss a design of this sample: pick another seed"
     assert "--builds -1" in _bench("step_agreement.py", "--builds", "-1", expect=2)
 
 
