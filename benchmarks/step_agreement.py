@@ -31,6 +31,8 @@ tuner meets.
 (``aero-env robustness``'s default table and draws, seeded with ``--seed``) at the config's own fidelity, and each
 setting's agreement is split into the converged designs whose count every build keeps (*robust*: a maker who cuts
 it gets that count) and the rest (*fragile*: the card's tolerances already decide its count, whatever the step).
+``--builds-at FIDELITY`` runs the builds at another rung, e.g. the reference, so that which designs count as robust
+does not rest on the rung being judged.
 
 A setting named ``reduced`` is the reduced model's rung (its preset), on the same designs and builds.
 
@@ -52,7 +54,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from aero_env.bench.accuracy import REFERENCE, REFINED, fidelity_overrides  # noqa: E402
 from aero_env.bench.designs import draw_designs  # noqa: E402
 from aero_env.intervals import interval_text, wilson_interval  # noqa: E402
-from aero_env.config import ConfigError, load_config  # noqa: E402
+from aero_env.config import FIDELITY_PRESETS, ConfigError, load_config  # noqa: E402
 from aero_env.models import reduced  # noqa: E402
 from aero_env.physics.kernels import load_kernels  # noqa: E402
 from aero_env.robustness.draws import build, draw_factors  # noqa: E402
@@ -111,14 +113,14 @@ def _run(job) -> tuple[int, str, int, float]:
     return i, name, traversals, time.perf_counter() - t0
 
 
-def tolerance_builds(sample, indices, builds: int, seed: int) -> list:
+def tolerance_builds(sample, indices, builds: int, seed: int, fidelity: str | None = None) -> list:
     """The work of --builds: each design's nominal run and ``builds`` builds of it within the maker's tolerances
-    (``aero-env robustness``'s default table), all at the config's own fidelity. The same factor rows (drawn with
-    ``seed``) build every design; a build the config rejects is None (its count -1, a change)."""
+    (``aero-env robustness``'s default table), all at ``fidelity`` (None: the config's own). The same factor rows
+    (drawn with ``seed``) build every design; a build the config rejects is None (its count -1, a change)."""
     factors = draw_factors(seed, builds, len(DEFAULT_TOLERANCES))
     work = []
     for i in indices:
-        cfg = sample.configs[i]
+        cfg = sample.configs[i] if fidelity is None else sample.configs[i].replace(fidelity_overrides(fidelity))
         work.append((i, "nominal", cfg))
         work += [(i, f"{BUILD} {k}", build(cfg, DEFAULT_TOLERANCES, row).config) for k, row in enumerate(factors)]
     return work
@@ -126,7 +128,7 @@ def tolerance_builds(sample, indices, builds: int, seed: int) -> list:
 
 def step_agreement(config: str, designs: int, seed: int, settings: list, jobs: int,
                    near: str | None = None, spread: float = 0.1, only: list[int] | None = None,
-                   builds: int = 0) -> dict:
+                   builds: int = 0, builds_at: str | None = None) -> dict:
     base = load_config(config)
     sample = draw_designs(base, designs, seed, near=None if near is None else load_config(near), spread=spread)
     names = {setting_name(setting): setting_overrides(setting) for setting in settings}
@@ -135,7 +137,7 @@ def step_agreement(config: str, designs: int, seed: int, settings: list, jobs: i
     indices = range(designs) if only is None else only
     work = [(i, name, sample.configs[i].replace(over)) for name, over in rungs.items() for i in indices]
     if builds:
-        work += tolerance_builds(sample, indices, builds, seed)
+        work += tolerance_builds(sample, indices, builds, seed, builds_at)
     counts: dict[str, list] = {name: [None] * designs for name in rungs}
     walls: dict[str, float] = {name: 0.0 for name in rungs}
     built: dict[int, dict] = {i: {} for i in indices}  # --builds: design -> {"nominal" or "build k": count}
@@ -167,7 +169,8 @@ def step_agreement(config: str, designs: int, seed: int, settings: list, jobs: i
                                wrong=[i for i in converged if counts[name][i] != ref[i]]))
     missed = sorted({i for r in rows for i in r["wrong"]})
     return dict(config=config, designs=designs, seed=seed, jobs=jobs, only=only, converged_designs=len(converged),
-                builds=builds, robust_designs=robust if builds else None, rows=rows,
+                builds=builds, builds_at=builds_at or base.sim.fidelity, robust_designs=robust if builds else None,
+                rows=rows,
                 sample="uniform" if near is None else f"near {near} ±{spread:g}", reference_counts=ref,
                 missed={i: {name: counts[name][i] for name in rungs} for i in missed})
 
@@ -179,7 +182,7 @@ def table(rep: dict) -> str:
              f"over the {rep['converged_designs']} whose count reference/2 confirms"]
     if rep["builds"]:
         lines.append(f"robust: the {len(rep['robust_designs'])} of them that keep their count in all {rep['builds']} "
-                     f"builds within the maker's tolerances (aero-env robustness's table) at the config's fidelity; "
+                     f"builds within the maker's tolerances (aero-env robustness's table) at {rep['builds_at']}; "
                      f"fragile: the other {rep['converged_designs'] - len(rep['robust_designs'])}")
     head = {"converged": "agree", "robust": "robust", "fragile": "fragile"}
     lines.append(f"{'dt ms/iter':>12}" + "".join(f" {head[g]:>7} {'95% CI':>11}" for g in groups) +
@@ -236,6 +239,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--builds", type=int, default=0, metavar="K", help="also build each design K times within the "
                     "maker's tolerances (aero-env robustness's default table) at the config's fidelity, and split the "
                     "agreement into the designs whose count every build keeps (robust) and the rest (default: 0, off)")
+    ap.add_argument("--builds-at", metavar="FIDELITY", help="run the builds at this rung (default: the config's "
+                    "fidelity, which is what aero-env robustness runs)")
     ap.add_argument("--json", action="store_true", help="one JSON object instead of the table")
     args = ap.parse_args(argv)
     try:
@@ -248,8 +253,13 @@ def main(argv: list[str] | None = None) -> int:
             raise ConfigError(f"--spread {args.spread!r}: only with --near")
         settings = parse_settings(args.settings)
         only = parse_only(args.only, args.designs)
+        if args.builds_at is not None:
+            if not args.builds:
+                raise ConfigError(f"--builds-at {args.builds_at}: only with --builds")
+            if args.builds_at not in FIDELITY_PRESETS:
+                raise ConfigError(f"--builds-at {args.builds_at!r}: not a fidelity; allowed {list(FIDELITY_PRESETS)}")
         rep = step_agreement(args.config, args.designs, args.seed, settings, args.jobs, args.near, args.spread, only,
-                             args.builds)
+                             args.builds, args.builds_at)
     except ConfigError as exc:
         print(f"step_agreement: {exc}", file=sys.stderr)
         return 2

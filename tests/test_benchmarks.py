@@ -121,11 +121,11 @@ def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_ch
     sample = draw_designs(load_config(PAPER), 6, 1)
     assert r["converged_designs"] == 6, "a design of this sample no longer converges: pick another seed"
     converged = list(range(6))
-    robust = []
-    for i in converged:
-        study = assess(sample.configs[i], DEFAULT_TOLERANCES, draws=4, seed=1)
-        if all(run.traversals == study.nominal.traversals for run in study.runs):
-            robust.append(i)
+    def keeps_its_count(cfg):  # aero-env robustness --draws 4 --seed 1: every build at the nominal's count
+        study = assess(cfg, DEFAULT_TOLERANCES, draws=4, seed=1)
+        return all(run.traversals == study.nominal.traversals for run in study.runs)
+
+    robust = [i for i in converged if keeps_its_count(sample.configs[i])]
     assert r["builds"] == 4 and r["robust_designs"] == robust
     assert 0 < len(robust) < len(converged), "the sample should hold robust and fragile designs: pick another seed"
     coarse = next(row for row in r["rows"] if row["setting"] == "2/5")
@@ -140,6 +140,13 @@ def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_ch
     assert by_reduced["wrong"] == [i for i, t in zip(converged, mine) if t != r["reference_counts"][i]] != [], \
         "the reduced model should miss a design of this sample: pick another seed"
     assert "--builds -1" in _bench("step_agreement.py", "--builds", "-1", expect=2)
+    # --builds-at runs the builds at another rung: the robust designs are then those robustness finds there
+    at = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "1", "--settings", "reduced", "--builds", "4",
+                "--builds-at", "reduced", "--jobs", "2", "--json")
+    there = [i for i in converged if keeps_its_count(sample.configs[i].replace({"sim.fidelity": "reduced"}))]
+    assert at["builds_at"] == "reduced" and at["robust_designs"] == there != robust
+    assert "--builds-at 'nope'" in _bench("step_agreement.py", "--builds", "2", "--builds-at", "nope", expect=2)
+    assert "only with --builds" in _bench("step_agreement.py", "--builds-at", "reference", expect=2)
 
 
 def test_step_agreement_near_a_design_runs_the_designs_bench_accuracy_draws_there():
