@@ -27,14 +27,17 @@ tuner meets.
     python benchmarks/step_agreement.py --designs 300 --seed 21 --near configs/paper.yaml --spread 0.15 --only 28,42 --settings 0.5/120
     python benchmarks/step_agreement.py --designs 300 --seed 21 --near configs/paper.yaml --spread 0.15 --builds 8
 
-``--builds K`` asks where the misses fall: each design is also built K times within the maker's tolerances
-(``aero-env robustness``'s default table and draws, seeded with ``--seed``) at the config's own fidelity, and each
+``--builds K`` asks where the misses fall: each design is also built K times within the maker's tolerances (the
+builds ``aero-env robustness --draws K --seed S`` draws for it, ``S`` from ``--builds-seed``, robustness's own default
+unless given) at the config's own fidelity, and each
 setting's agreement is split into the converged designs whose count every build keeps (*robust*: a maker who cuts
 it gets that count) and the rest (*fragile*: the card's tolerances already decide its count, whatever the step).
 ``--builds-at FIDELITY`` runs the builds at another rung, e.g. the reference, so that which designs count as robust
 does not rest on the rung being judged.
 
-A setting named ``reduced`` is the reduced model's rung (its preset), on the same designs and builds.
+A setting named ``reduced`` is the reduced model's rung (its preset), on the same designs and builds. Every setting is
+timed one design per call; the reduced model's batch (``bench accuracy``, ``bench throughput``) is several times
+cheaper per design than that.
 
 ``--only I,J`` runs only those designs of the sample (their indices in a whole run's list), to look at a few of
 them at more settings than a whole sample can afford.
@@ -57,8 +60,9 @@ from aero_env.intervals import interval_text, wilson_interval  # noqa: E402
 from aero_env.config import FIDELITY_PRESETS, ConfigError, load_config  # noqa: E402
 from aero_env.models import reduced  # noqa: E402
 from aero_env.physics.kernels import load_kernels  # noqa: E402
-from aero_env.robustness.draws import build, draw_factors  # noqa: E402
-from aero_env.robustness.tolerances import DEFAULT_TOLERANCES  # noqa: E402
+from aero_env.robustness.command import DEFAULT_SEED  # noqa: E402
+from aero_env.robustness.study import draw_builds  # noqa: E402
+from aero_env.robustness.tolerances import DEFAULT_TOLERANCES, check_against  # noqa: E402
 from aero_env.simulation import simulate  # noqa: E402
 
 DEFAULT_SETTINGS = "0.5/30,0.5/60,0.5/120,0.25/30,0.25/60,0.125/30,0.125/120"
@@ -100,35 +104,37 @@ def setting_overrides(setting) -> dict:
 BUILD = "build"  # the work items of --builds: (i, "build", k)
 
 
-def _run(job) -> tuple[int, str, int, float]:
+def _run(job) -> tuple[int, str, int | None, float]:
+    """One design at one setting: its traversal count (None: a build the world cannot assemble) and wall time."""
     i, name, cfg = job
     load_kernels()  # once per process, untimed
     if name == "reduced":
         reduced.compile_kernels()  # likewise: loaded from numba's cache once per process, untimed
     t0 = time.perf_counter()
     try:
-        traversals = -1 if cfg is None else simulate(cfg).traversals
-    except ConfigError:  # a build the world cannot assemble: a changed outcome, as aero-env robustness counts it
-        traversals = -1
+        traversals = None if cfg is None else simulate(cfg).traversals
+    except ConfigError:  # an invalid build, as aero-env robustness counts it: never one that keeps the count
+        traversals = None
     return i, name, traversals, time.perf_counter() - t0
 
 
 def tolerance_builds(sample, indices, builds: int, seed: int, fidelity: str | None = None) -> list:
-    """The work of --builds: each design's nominal run and ``builds`` builds of it within the maker's tolerances
-    (``aero-env robustness``'s default table), all at ``fidelity`` (None: the config's own). The same factor rows
-    (drawn with ``seed``) build every design; a build the config rejects is None (its count -1, a change)."""
-    factors = draw_factors(seed, builds, len(DEFAULT_TOLERANCES))
+    """The work of --builds: each design's nominal run and the ``builds`` builds ``aero-env robustness --draws builds
+    --seed seed`` draws for it (its default table), all at ``fidelity`` (None: the config's own). A build the config
+    rejects has no config (an invalid build)."""
     work = []
     for i in indices:
         cfg = sample.configs[i] if fidelity is None else sample.configs[i].replace(fidelity_overrides(fidelity))
+        check_against(cfg, DEFAULT_TOLERANCES)
         work.append((i, "nominal", cfg))
-        work += [(i, f"{BUILD} {k}", build(cfg, DEFAULT_TOLERANCES, row).config) for k, row in enumerate(factors)]
+        work += [(i, f"{BUILD} {k}", b.config) for k, b in enumerate(draw_builds(cfg, DEFAULT_TOLERANCES, builds,
+                                                                                    seed)[1])]
     return work
 
 
 def step_agreement(config: str, designs: int, seed: int, settings: list, jobs: int,
                    near: str | None = None, spread: float = 0.1, only: list[int] | None = None,
-                   builds: int = 0, builds_at: str | None = None) -> dict:
+                   builds: int = 0, builds_at: str | None = None, builds_seed: int = DEFAULT_SEED) -> dict:
     base = load_config(config)
     sample = draw_designs(base, designs, seed, near=None if near is None else load_config(near), spread=spread)
     names = {setting_name(setting): setting_overrides(setting) for setting in settings}
@@ -137,7 +143,7 @@ def step_agreement(config: str, designs: int, seed: int, settings: list, jobs: i
     indices = range(designs) if only is None else only
     work = [(i, name, sample.configs[i].replace(over)) for name, over in rungs.items() for i in indices]
     if builds:
-        work += tolerance_builds(sample, indices, builds, seed, builds_at)
+        work += tolerance_builds(sample, indices, builds, builds_seed, builds_at)
     counts: dict[str, list] = {name: [None] * designs for name in rungs}
     walls: dict[str, float] = {name: 0.0 for name in rungs}
     built: dict[int, dict] = {i: {} for i in indices}  # --builds: design -> {"nominal" or "build k": count}
@@ -151,9 +157,12 @@ def step_agreement(config: str, designs: int, seed: int, settings: list, jobs: i
     ref = counts[REFERENCE]
     converged = [i for i in indices if ref[i] == counts[REFINED][i]]
     if not converged:
-        raise ConfigError(f"no converged design: reference and reference/2 disagree on all {designs}; draw more designs")
-    # --builds: a converged design is robust when every build keeps its nominal count at the config's fidelity
-    robust = [i for i in converged if builds and all(c == built[i]["nominal"] for c in built[i].values())]
+        raise ConfigError(f"no converged design: reference and reference/2 disagree on all {len(indices)} run; "
+                          f"draw more designs")
+    # --builds: a converged design is robust when every build keeps its nominal count (an invalid build, None, never
+    # does; nor does anything, when the nominal run itself is invalid)
+    robust = [i for i in converged if builds and built[i]["nominal"] is not None and
+              all(c == built[i]["nominal"] for c in built[i].values())]
     groups = {"converged": converged} | ({"robust": robust, "fragile": [i for i in converged if i not in robust]}
                                          if builds else {})
     rows = []
@@ -169,7 +178,8 @@ def step_agreement(config: str, designs: int, seed: int, settings: list, jobs: i
                                wrong=[i for i in converged if counts[name][i] != ref[i]]))
     missed = sorted({i for r in rows for i in r["wrong"]})
     return dict(config=config, designs=designs, seed=seed, jobs=jobs, only=only, converged_designs=len(converged),
-                builds=builds, builds_at=builds_at or base.sim.fidelity, robust_designs=robust if builds else None,
+                builds=builds, builds_at=(builds_at or base.sim.fidelity) if builds else None,
+                builds_seed=builds_seed if builds else None, robust_designs=robust if builds else None,
                 rows=rows,
                 sample="uniform" if near is None else f"near {near} ±{spread:g}", reference_counts=ref,
                 missed={i: {name: counts[name][i] for name in rungs} for i in missed})
@@ -182,7 +192,8 @@ def table(rep: dict) -> str:
              f"over the {rep['converged_designs']} whose count reference/2 confirms"]
     if rep["builds"]:
         lines.append(f"robust: the {len(rep['robust_designs'])} of them that keep their count in all {rep['builds']} "
-                     f"builds within the maker's tolerances (aero-env robustness's table) at {rep['builds_at']}; "
+                     f"builds within the maker's tolerances (aero-env robustness's table, seed {rep['builds_seed']}) at "
+                     f"{rep['builds_at']}; "
                      f"fragile: the other {rep['converged_designs'] - len(rep['robust_designs'])}")
     head = {"converged": "agree", "robust": "robust", "fragile": "fragile"}
     lines.append(f"{'dt ms/iter':>12}" + "".join(f" {head[g]:>7} {'95% CI':>11}" for g in groups) +
@@ -239,6 +250,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--builds", type=int, default=0, metavar="K", help="also build each design K times within the "
                     "maker's tolerances (aero-env robustness's default table) at the config's fidelity, and split the "
                     "agreement into the designs whose count every build keeps (robust) and the rest (default: 0, off)")
+    ap.add_argument("--builds-seed", type=int, default=DEFAULT_SEED, help="seed of the builds' draws, as aero-env "
+                    f"robustness --seed (default: {DEFAULT_SEED}, robustness's own; must differ from --seed)")
     ap.add_argument("--builds-at", metavar="FIDELITY", help="run the builds at this rung (default: the config's "
                     "fidelity, which is what aero-env robustness runs)")
     ap.add_argument("--json", action="store_true", help="one JSON object instead of the table")
@@ -253,13 +266,16 @@ def main(argv: list[str] | None = None) -> int:
             raise ConfigError(f"--spread {args.spread!r}: only with --near")
         settings = parse_settings(args.settings)
         only = parse_only(args.only, args.designs)
+        if args.builds and args.builds_seed == args.seed:
+            raise ConfigError(f"--builds-seed {args.builds_seed} equals --seed: the builds would reuse the random numbers "
+                              f"that drew the designs; choose another")
         if args.builds_at is not None:
             if not args.builds:
                 raise ConfigError(f"--builds-at {args.builds_at}: only with --builds")
             if args.builds_at not in FIDELITY_PRESETS:
                 raise ConfigError(f"--builds-at {args.builds_at!r}: not a fidelity; allowed {list(FIDELITY_PRESETS)}")
         rep = step_agreement(args.config, args.designs, args.seed, settings, args.jobs, args.near, args.spread, only,
-                             args.builds, args.builds_at)
+                             args.builds, args.builds_at, args.builds_seed)
     except ConfigError as exc:
         print(f"step_agreement: {exc}", file=sys.stderr)
         return 2

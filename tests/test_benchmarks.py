@@ -3,6 +3,7 @@ each run is checked for what it reports (counts, the designs it ran, the physics
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import subprocess
 import sys
@@ -113,6 +114,7 @@ def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_ch
     # and the robust/fragile agreements are the converged agreement over those two groups
     from aero_env.bench.designs import draw_designs
     from aero_env.config import load_config
+    from aero_env.robustness.draws import INVALID
     from aero_env.robustness.study import assess
     from aero_env.robustness.tolerances import DEFAULT_TOLERANCES
 
@@ -121,9 +123,10 @@ def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_ch
     sample = draw_designs(load_config(PAPER), 6, 1)
     assert r["converged_designs"] == 6, "a design of this sample no longer converges: pick another seed"
     converged = list(range(6))
-    def keeps_its_count(cfg):  # aero-env robustness --draws 4 --seed 1: every build at the nominal's count
-        study = assess(cfg, DEFAULT_TOLERANCES, draws=4, seed=1)
-        return all(run.traversals == study.nominal.traversals for run in study.runs)
+
+    def keeps_its_count(cfg):  # aero-env robustness --draws 4 (its default seed): every build at the nominal's count
+        study = assess(cfg, DEFAULT_TOLERANCES, draws=4, seed=0)
+        return all(run.outcome != INVALID and run.traversals == study.nominal.traversals for run in study.runs)
 
     robust = [i for i in converged if keeps_its_count(sample.configs[i])]
     assert r["builds"] == 4 and r["robust_designs"] == robust
@@ -132,6 +135,18 @@ def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_ch
     fragile = [i for i in converged if i not in robust]
     assert coarse["agreement_robust"] == sum(i not in coarse["wrong"] for i in robust) / len(robust)
     assert coarse["agreement_fragile"] == sum(i not in coarse["wrong"] for i in fragile) / len(fragile)
+    for group, members in (("robust", robust), ("fragile", fragile)):
+        right = sum(i not in coarse["wrong"] for i in members)
+        assert coarse[f"agreement_{group}_interval_95"] == pytest.approx(wilson_interval(right, len(members)))
+    # the table the docs print: the split's line and, per setting, three agreements with their intervals
+    spec = importlib.util.spec_from_file_location("step_agreement", ROOT / "benchmarks" / "step_agreement.py")
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    lines = script.table(r).splitlines()
+    assert lines[1].startswith(f"robust: the {len(robust)} of them") and f"the other {len(fragile)}" in lines[1]
+    row = next(line.split() for line in lines if line.split()[:1] == ["2/5"])
+    lo, hi = coarse["agreement_fragile_interval_95"]
+    assert row[5:7] == [f"{100 * coarse['agreement_fragile']:.1f}%", f"{100 * lo:.1f}-{100 * hi:.1f}"]
     # a setting named reduced is the reduced model's rung, on the same designs
     from aero_env.simulation import simulate
 
@@ -147,6 +162,7 @@ def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_ch
     assert at["builds_at"] == "reduced" and at["robust_designs"] == there != robust
     assert "--builds-at 'nope'" in _bench("step_agreement.py", "--builds", "2", "--builds-at", "nope", expect=2)
     assert "only with --builds" in _bench("step_agreement.py", "--builds-at", "reference", expect=2)
+    assert "equals --seed" in _bench("step_agreement.py", "--seed", "0", "--builds", "2", expect=2)
 
 
 def test_step_agreement_near_a_design_runs_the_designs_bench_accuracy_draws_there():

@@ -63,7 +63,7 @@ def assess(cfg: Config, tols: Sequence[Tol], draws: int, seed: int = 0, workers:
     simulator = simulator or _default_simulator()
     ends = [(i, e) for i, t in enumerate(tols) if not t.zero for e in ENDS]
     singles = [single_change(cfg, tols, i, e) for i, e in ends]
-    factors, builds = _draws(cfg, tols, draws, seed)
+    factors, builds = draw_builds(cfg, tols, draws, seed)
     nominal = Build({}, cfg)
     runs = run_builds([nominal, *singles, *builds], simulator, workers, progress)
     single_runs, draw_runs = runs[1:1 + len(singles)], runs[1 + len(singles):]
@@ -78,11 +78,11 @@ def completed_builds(cfg: Config, tols: Sequence[Tol], draws: int, seed: int = 0
     tols = tuple(tols)
     check_counts(draws=draws, workers=workers)
     check_against(cfg, tols)
-    runs = run_builds(_draws(cfg, tols, draws, seed)[1], simulator or _default_simulator(), workers, progress)
+    runs = run_builds(draw_builds(cfg, tols, draws, seed)[1], simulator or _default_simulator(), workers, progress)
     return sum(r.traversals == cfg.scene.frames - 1 for r in runs)
 
 
-def _draws(cfg: Config, tols: tuple[Tol, ...], draws: int, seed: int) -> tuple[np.ndarray, list[Build]]:
+def draw_builds(cfg: Config, tols: tuple[Tol, ...], draws: int, seed: int) -> tuple[np.ndarray, list[Build]]:
     """The factors of ``draws`` random builds drawn with ``seed``, and the builds they make."""
     factors = draw_factors(seed, draws, len(tols))
     return factors, [build(cfg, tols, row) for row in factors]
