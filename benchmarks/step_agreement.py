@@ -56,8 +56,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from aero_env.bench.accuracy import REFERENCE, REFINED, fidelity_overrides  # noqa: E402
 from aero_env.bench.designs import draw_designs  # noqa: E402
-from aero_env.intervals import interval_text, wilson_interval  # noqa: E402
 from aero_env.config import FIDELITY_PRESETS, ConfigError, load_config  # noqa: E402
+from aero_env.intervals import interval_text, wilson_interval  # noqa: E402
 from aero_env.models import reduced  # noqa: E402
 from aero_env.physics.kernels import load_kernels  # noqa: E402
 from aero_env.robustness.command import DEFAULT_SEED  # noqa: E402

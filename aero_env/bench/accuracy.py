@@ -38,10 +38,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..config import DEFAULT_FIDELITY, FIDELITY_PRESETS, Config, ConfigError
+from ..intervals import interval_text, wilson_interval
 from ..physics.kernels import load_kernels
 from ..simulation import simulate
 from .designs import DesignSample, check_counts, draw_designs, median_time
-from ..intervals import interval_text, wilson_interval
 
 REFERENCE = "reference"
 REFINED = "reference/2"

@@ -86,6 +86,7 @@ def python_hypot(a, b):
     x = csum - 1.0 + (frac1 + frac2 + frac3)
     return unscale * ((h + x / (2.0 * h)) / scale)
 
+
 def nearest_on_face(face, lx, ly):
     """The point of ``face``'s centre line nearest (lx, ly), frame-local: min(max(along, 0), length) written as
     the comparisons Python's min and max make, ties and NaN alike."""
