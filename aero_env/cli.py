@@ -15,7 +15,8 @@ its scene and checks its output paths with :mod:`aero_env.scene_args`, not throu
 Every slip ends with one line on stderr naming the option or key, the value and what is allowed,
 and exit status 2 (argparse's own errors too: no usage block, a pointer to ``--help``), its first
 word the kind of slip (:func:`error_kind`: ``error:`` for an option, ``file error:`` for a file that
-cannot be read, ``config error:`` for a config key or value); Ctrl-C
+cannot be read, ``config error:`` for a config key or value, ``missing package:`` for an extra the install
+left out); Ctrl-C
 ends with one line and exit status 130. Every option's help shows its default.
 """
 
@@ -29,7 +30,7 @@ import sys
 from importlib.metadata import PackageNotFoundError, entry_points, version
 
 from . import quantities
-from .config import ConfigError, schema_rows
+from .config import ConfigError, MissingExtra, schema_rows
 from .scene_args import PLOT_SUFFIXES, check_output, load_scene
 
 __all__ = ["build_parser", "main"]
@@ -302,7 +303,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return args.func(args)
     except ConfigError as exc:
-        print(f"aero-env: {error_kind(str(exc))}: {exc}", file=sys.stderr)
+        kind = "missing package" if isinstance(exc, MissingExtra) else error_kind(str(exc))
+        print(f"aero-env: {kind}: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:  # commands that keep something (tune, train) say what before this
         print(f"aero-env {args.command}: interrupted", file=sys.stderr)

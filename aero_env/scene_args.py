@@ -4,11 +4,14 @@ Every ``aero-env`` subcommand, this package's and the agents', reads its scene w
 :func:`load_scene` and checks every path it will write with :func:`check_output` (a file) or
 :func:`check_output_dir` (a run's folder) before any work starts, so that a slip in a path ends
 with one line and exit status 2 instead of a traceback after the work (``tune --out nodir/best.yaml``
-used to run all its trials first). Nothing here imports the command line.
+used to run all its trials first). Options that several commands share are defined here once
+(:func:`add_seed`, :func:`whole`), so that each is refused in the same words by every command,
+by argparse, before the command's first line runs. Nothing here imports the command line.
 """
 
 from __future__ import annotations
 
+import argparse
 import os
 from pathlib import Path
 from typing import Iterable
@@ -17,6 +20,29 @@ from .config import Config, ConfigError, load_config, parse_override
 
 PLOT_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")  # what matplotlib's savefig writes by name
 YAML_SUFFIXES = (".yaml", ".yml")
+CSV_SUFFIXES = (".csv",)
+MAX_SEED = 2**31 - 1  # numpy's and torch's seeds take more; Optuna's samplers and SB3 take up to this
+
+
+def whole(lo: int, hi: int):
+    """An argparse ``type`` for a whole number in [lo, hi]: a slip (``-3`` for a seed, ``2.5`` for a count) is
+    argparse's one-line error naming the option, the value and the range, before the command runs."""
+    def parse(text: str) -> int:
+        try:
+            value = int(str(text), 10)
+        except ValueError:
+            value = None
+        if value is None or not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"{text!r}: must be a whole number in [{lo}, {hi}]")
+        return value
+
+    parse.__name__ = f"whole number in [{lo}, {hi}]"  # what argparse names in its own messages
+    return parse
+
+
+def add_seed(parser, default: int, help_text: str) -> None:
+    """The ``--seed`` option, as every command defines it: a whole number in [0, MAX_SEED]."""
+    parser.add_argument("--seed", type=whole(0, MAX_SEED), default=default, metavar="S", help=help_text)
 
 
 def load_scene(args) -> Config:
@@ -56,6 +82,16 @@ def check_output(path: str | os.PathLike | None, option: str, suffixes: Iterable
         if p.suffix.lower() not in suffixes:
             raise ConfigError(f"{option} {str(path)!r}: suffix {p.suffix or '(none)'!r} cannot be written, "
                               f"allowed {', '.join(suffixes)}")
+
+
+def check_not_the_config(path: str | os.PathLike | None, option: str, config: str | os.PathLike) -> None:
+    """Refuse to write a command's output config over the config it reads (``tune X.yaml --out X.yaml``): the
+    output is a complete config in bare SI, so a hand-written file would lose its comments and units."""
+    if path is None or not Path(path).is_file() or not Path(config).is_file():
+        return
+    if os.path.samefile(path, config):
+        raise ConfigError(f"{option} {str(path)!r}: is the config this command reads; it would be written over as bare "
+                          f"SI values, its comments and units lost: give another file")
 
 
 def check_output_dir(path: str | os.PathLike, option: str, overwrite: bool = False,

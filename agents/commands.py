@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 
 from aero_env.config import FIDELITY_PRESETS
-from aero_env.scene_args import PLOT_SUFFIXES, YAML_SUFFIXES, check_output, load_scene
+from aero_env.scene_args import PLOT_SUFFIXES, YAML_SUFFIXES, add_seed, check_not_the_config, check_output, load_scene
 
 from .options import ALGOS, SAMPLERS
 from .study_faults import RECONNECT_S
@@ -30,7 +30,7 @@ def register(sub, scene_command) -> None:
     tp.add_argument("--seeds-per-design", type=int, default=1, metavar="K",
                     help="episode seeds each design is scored on (mean reward); >1 where the scene draws "
                          "context or tolerances, so that robust designs win")
-    tp.add_argument("--seed", type=int, default=0, help="the sampler's seed")
+    add_seed(tp, 0, "the sampler's seed")
     tp.add_argument("--storage", metavar="URL", help="memory, sqlite:///FILE.db or postgresql://USER@HOST/DB "
                     "(default: memory; sqlite:///aero-env-tune.db with --study or --workers > 1)")
     tp.add_argument("--study", metavar="NAME", help="study name; an existing study resumes "
@@ -65,7 +65,7 @@ def register(sub, scene_command) -> None:
     rp.add_argument("--vector", action="store_true",
                     help="step the --n-envs designs in one call of the native vector env (at sim.fidelity reduced: one "
                          "call of the compiled model; at a pymunk fidelity: a pool of processes over the cores)")
-    rp.add_argument("--seed", type=int, default=0, help="seed of the policy and of the training episodes")
+    add_seed(rp, 0, "seed of the policy and of the training episodes")
     rp.add_argument("--eval-every", type=int, default=500, metavar="STEPS",
                     help="timesteps between periodic evaluations (0: none)")
     rp.add_argument("--hp", action="append", metavar="KEY=VALUE",
@@ -83,7 +83,7 @@ def register(sub, scene_command) -> None:
     ep = sub.add_parser("evaluate", help="the trained policy's reward over episode seeds (mean and spread)")
     ep.add_argument("run_dir", metavar="DIR", help="a directory written by aero-env train")
     ep.add_argument("--episodes", type=int, default=20, help="episodes, one per seed")
-    ep.add_argument("--seed", type=int, default=0, help="first episode seed")
+    add_seed(ep, 0, "first episode seed")
     ep.add_argument("--config", metavar="FILE.yaml",
                     help="evaluate on this scene instead of the one it was trained on (the same context, ranges "
                          "included, and the same tunable fields, whose ranges may differ)")
@@ -120,6 +120,7 @@ def cmd_tune(args) -> int:
     out = Path(args.out)
     plot = Path(args.plot) if args.plot else out.with_name(f"{out.stem}_history.png")
     check_output(out, "--out", YAML_SUFFIXES)
+    check_not_the_config(out, "--out", args.config)
     check_output(plot, "--plot" if args.plot else "--plot (next to --out)", PLOT_SUFFIXES)
     settings = TuneSettings(sampler=args.sampler, trials=args.trials, seeds_per_design=args.seeds_per_design,
                             seed=args.seed, storage=args.storage, study=args.study, workers=args.workers,
@@ -171,6 +172,10 @@ def cmd_train(args) -> int:
     cfg = load_scene(args)
     try:
         run = train(cfg, settings, args.out, overwrite=args.overwrite, resume=args.resume)
+    except KeyboardInterrupt:  # before the first step: train left the folder as it found it
+        print(f"aero-env train: interrupted before the first training step; {args.out} is as it was before",
+              file=sys.stderr)
+        return INTERRUPTED
     except TrainInterrupted as stop:
         r = stop.run
         print(f"aero-env train: interrupted at {r['timesteps_done']} of {r['timesteps']} timesteps; kept the policy so "

@@ -23,4 +23,4 @@ def check_ints(settings: Any, ranges: Iterable[tuple[str, int, int]]) -> None:
     for name, lo, hi in ranges:
         v = getattr(settings, name)
         if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
-            raise ConfigError(f"--{name.replace('_', '-')} {v!r}: must be an integer in [{lo}, {hi}]")
+            raise ConfigError(f"--{name.replace('_', '-')} {v!r}: must be a whole number in [{lo}, {hi}]")

@@ -31,6 +31,7 @@ was never stopped (the environments restart their episodes and PPO its rollout).
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import math
@@ -44,9 +45,10 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from aero_env.config import Config, ConfigError, did_you_mean, from_dict, load_config
+from aero_env.config import Config, ConfigError, MissingExtra, did_you_mean, from_dict, load_config
 from aero_env.scene_args import check_output_dir
 
+from .interrupts import SigintOnce, children_ignore_sigint, write_atomically
 from .options import ALGOS, check_choice, check_ints
 
 # Every step is a whole episode, so there is nothing to discount or bootstrap: gamma is moot and
@@ -75,6 +77,7 @@ HP_SPECS: dict[str, dict[str, tuple]] = {
 RUN_FILES = ("model.zip", "config.yaml", "run.json", "evaluations.npz", "learning_curve.png", "replay_buffer.pkl")
 EVAL_EPISODES = 10         # episodes per periodic evaluation
 EVAL_SEED_OFFSET = 10_000  # evaluation seeds start here, away from the training envs' seeds
+STEP_REPLY_S = 30.0        # how long a stopped run waits for a worker's step still under way (one episode)
 
 
 @dataclass(frozen=True)
@@ -223,7 +226,7 @@ def _sb3():
         import stable_baselines3
         import torch
     except ImportError:
-        raise ConfigError("aero-env train needs stable-baselines3 and torch: pip install -e '.[rl]'") from None
+        raise MissingExtra("aero-env train", "stable-baselines3 and torch", "rl") from None
     torch.set_num_threads(1)  # the networks are tiny: one thread is fastest and keeps runs bit-identical
     return stable_baselines3
 
@@ -260,7 +263,18 @@ def _vec_env(cfg: Config, n_envs: int, seed: int, monitor_dir: Path | None, pref
 
 
 def _close(venv) -> None:
-    """Close a vector env whose workers may already be gone (Ctrl-C reaches them too)."""
+    """Close a vector env (None: not made yet) whose workers may already be gone, or stopped mid-step."""
+    if venv is None:
+        return
+    workers = getattr(venv, "unwrapped", venv)  # a VecMonitor's innermost vector env
+    if getattr(workers, "waiting", False):
+        # Ctrl-C between a step's send and its last reply: SubprocVecEnv.close would wait again for every reply,
+        # those already read too, forever (seen: a run hung at its save). Read the replies still due, then close.
+        for remote in workers.remotes:
+            with contextlib.suppress(EOFError, OSError):
+                if remote.poll(STEP_REPLY_S):
+                    remote.recv()
+        workers.waiting = False
     try:
         venv.close()
     except (EOFError, OSError, BrokenPipeError):
@@ -276,73 +290,132 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
 
     ``out`` must be new or empty unless ``overwrite`` (a previous run's files are removed first) or
     ``resume`` (go on with the run stopped there). Ctrl-C saves the run so far and raises
-    :class:`TrainInterrupted`."""
+    :class:`TrainInterrupted`; before the first training step, it removes what this call wrote (a resumed run
+    is left as it was) and raises KeyboardInterrupt. Either way ``out`` holds a whole run or none: every file
+    is written atomically, and a save runs to its end through a second Ctrl-C (:mod:`agents.interrupts`)."""
     settings = settings.check()
     out = Path(out)
     check_run_dir(out, overwrite, resume)
     before = _resume_state(cfg, settings, out) if resume else None
     sb3 = _sb3()
-    from stable_baselines3.common.callbacks import EvalCallback
-
     if overwrite and out.is_dir():
         clear_run(out)
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "config.yaml").write_text(cfg.to_yaml())
-    cls = {"ppo": sb3.PPO, "sac": sb3.SAC}[settings.algo]
+    kept = _Kept.of(out)
     segment = before.get("segments", 1) if before else 0  # monitor files of resumed segments: r1-0, r2-0, ...
-    venv = _vec_env(cfg, settings.n_envs, settings.seed + (1000 * segment), out, f"r{segment}-" if segment else "",
-                    settings.vector)
-    callbacks = list(callbacks or [])
-    if settings.eval_every:
-        eval_env = _vec_env(cfg, 1, settings.seed + EVAL_SEED_OFFSET, None)
-        ev = EvalCallback(eval_env, n_eval_episodes=EVAL_EPISODES, log_path=str(out), verbose=0,
-                          eval_freq=max(1, settings.eval_every // settings.n_envs), warn=False)
-        if before and (out / "evaluations.npz").is_file():
-            old = np.load(out / "evaluations.npz")
-            ev.evaluations_timesteps = [int(t) for t in old["timesteps"]]
-            ev.evaluations_results = [list(r) for r in old["results"]]
-            ev.evaluations_length = [list(r) for r in old["ep_lengths"]]
-        callbacks.append(ev)
-    if before:
-        model = cls.load(out / "model.zip", env=venv, device="cpu")
-        model.set_random_seed(settings.seed + 1000 * segment)  # a resumed segment is seeded too
-        if settings.algo == "sac" and (out / "replay_buffer.pkl").is_file():
-            model.load_replay_buffer(out / "replay_buffer.pkl")
-        todo, wall_before = settings.timesteps - before["timesteps_done"], float(before.get("wall_time", 0.0))
-    else:
-        model = cls("MlpPolicy", venv, seed=settings.seed, device="cpu", verbose=0, **settings.algo_kwargs())
-        todo, wall_before = settings.timesteps, 0.0
     run = dict(algo=settings.algo, timesteps=settings.timesteps, n_envs=settings.n_envs, seed=settings.seed,
                eval_every=settings.eval_every, vector=settings.vector,
                hyperparameters=_jsonable(settings.algo_kwargs()))
-    if settings.progress:
-        callbacks.append(_progress_bar(settings, todo))
-    t0 = time.perf_counter()
-    try:
-        with warnings.catch_warnings():  # the evaluations run one env in-process, whatever --n-envs says
-            warnings.filterwarnings("ignore", message="Training and eval env are not of the same type")
-            model.learn(todo, callback=callbacks, reset_num_timesteps=before is None)
-    except KeyboardInterrupt:
-        wall = wall_before + time.perf_counter() - t0
-        model.save(out / "model.zip")
-        if settings.algo == "sac":
-            model.save_replay_buffer(out / "replay_buffer.pkl")
-        _close(venv)
-        run.update(timesteps_done=int(model.num_timesteps), interrupted=True, segments=segment + 1, wall_time=wall,
-                   episodes_per_second=model.num_timesteps / wall if wall > 0 else None)
-        (out / "run.json").write_text(json.dumps(run, indent=2))
-        plot_learning_curve(out, out / "learning_curve.png")
-        raise TrainInterrupted(run, out) from None
-    wall = wall_before + time.perf_counter() - t0
-    model.save(out / "model.zip")
-    (out / "replay_buffer.pkl").unlink(missing_ok=True)
-    _close(venv)
-    run.update(timesteps_done=int(model.num_timesteps), wall_time=wall, episodes_per_second=model.num_timesteps / wall)
+    todo, wall_before = settings.timesteps, 0.0
     if before:
-        run["segments"] = segment + 1
-    (out / "run.json").write_text(json.dumps(run, indent=2))
-    plot_learning_curve(out, out / "learning_curve.png")
-    return run
+        todo, wall_before = settings.timesteps - before["timesteps_done"], float(before.get("wall_time", 0.0))
+    model = venv = evaluation = None
+    t0 = time.perf_counter()
+    with SigintOnce(f"aero-env train: saving the run in {out}; it stops once the save is done") as sigint:
+        try:
+            with children_ignore_sigint():  # the workers leave Ctrl-C to this process, which closes them
+                out.mkdir(parents=True, exist_ok=True)
+                if not before:  # a resumed run's config.yaml is this scene already (_resume_state)
+                    write_atomically(out / "config.yaml", lambda f: f.write(cfg.to_yaml().encode()))
+                venv = _vec_env(cfg, settings.n_envs, settings.seed + (1000 * segment), out,
+                                f"r{segment}-" if segment else "", settings.vector)
+                model, evaluation, extra = _model(sb3, cfg, settings, out, venv, before, segment)
+                callbacks = [*(callbacks or []), *extra]
+                if settings.progress:
+                    callbacks.append(_progress_bar(settings, todo))
+                t0 = time.perf_counter()
+                with warnings.catch_warnings():  # the evaluations run one env in-process, whatever --n-envs says
+                    warnings.filterwarnings("ignore", message="Training and eval env are not of the same type")
+                    model.learn(todo, callback=callbacks, reset_num_timesteps=before is None)
+                with sigint.saving():  # a Ctrl-C now waits for the finished run's files
+                    wall = wall_before + time.perf_counter() - t0
+                    _close(venv)
+                    run.update(timesteps_done=int(model.num_timesteps), wall_time=wall,
+                               episodes_per_second=model.num_timesteps / wall)
+                    if before:
+                        run["segments"] = segment + 1
+                    _save_run(model, out, run, evaluation, keep_replay=False)
+                return run
+        except KeyboardInterrupt:
+            with sigint.saving():
+                _close(venv)
+                trained = model is not None and model.num_timesteps > (before["timesteps_done"] if before else 0)
+                if not trained:  # stopped before the first step: the folder is left as this call found it
+                    kept.restore()
+                    raise
+                wall = wall_before + time.perf_counter() - t0
+                run.update(timesteps_done=int(model.num_timesteps), interrupted=True, segments=segment + 1,
+                           wall_time=wall, episodes_per_second=model.num_timesteps / wall if wall > 0 else None)
+                _save_run(model, out, run, evaluation, keep_replay=settings.algo == "sac")
+            raise TrainInterrupted(run, out) from None
+
+
+def _model(sb3, cfg: Config, settings: TrainSettings, out: Path, venv, before: dict | None, segment: int):
+    """The model to train (new, or the stopped run's), its periodic evaluation (None without) and the callbacks
+    that run it."""
+    from stable_baselines3.common.callbacks import EvalCallback
+
+    cls = {"ppo": sb3.PPO, "sac": sb3.SAC}[settings.algo]
+    evaluation, callbacks = None, []
+    if settings.eval_every:
+        eval_env = _vec_env(cfg, 1, settings.seed + EVAL_SEED_OFFSET, None)
+        evaluation = EvalCallback(eval_env, n_eval_episodes=EVAL_EPISODES, log_path=str(out), verbose=0,
+                                  eval_freq=max(1, settings.eval_every // settings.n_envs), warn=False)
+        if before and (out / "evaluations.npz").is_file():
+            old = np.load(out / "evaluations.npz")
+            evaluation.evaluations_timesteps = [int(t) for t in old["timesteps"]]
+            evaluation.evaluations_results = [list(r) for r in old["results"]]
+            evaluation.evaluations_length = [list(r) for r in old["ep_lengths"]]
+        callbacks.append(evaluation)
+    if not before:
+        return cls("MlpPolicy", venv, seed=settings.seed, device="cpu", verbose=0, **settings.algo_kwargs()), \
+            evaluation, callbacks
+    model = cls.load(out / "model.zip", env=venv, device="cpu")
+    model.set_random_seed(settings.seed + 1000 * segment)  # a resumed segment is seeded too
+    if settings.algo == "sac" and (out / "replay_buffer.pkl").is_file():
+        model.load_replay_buffer(out / "replay_buffer.pkl")
+    return model, evaluation, callbacks
+
+
+def _save_run(model, out: Path, run: dict, evaluation, keep_replay: bool) -> None:
+    """Write the run's files, each atomically, the policy before the run.json that describes it: a run stopped
+    anywhere in here keeps the previous save's pair, or this one's."""
+    write_atomically(out / "model.zip", model.save)
+    if keep_replay:  # SAC's replay buffer, for --resume
+        write_atomically(out / "replay_buffer.pkl", model.save_replay_buffer)
+    else:
+        (out / "replay_buffer.pkl").unlink(missing_ok=True)
+    if evaluation is not None and evaluation.evaluations_timesteps:
+        # EvalCallback writes evaluations.npz in place, where a Ctrl-C can cut it: rewritten whole from memory
+        write_atomically(out / "evaluations.npz", lambda f: np.savez(
+            f, timesteps=evaluation.evaluations_timesteps, results=evaluation.evaluations_results,
+            ep_lengths=evaluation.evaluations_length))
+    write_atomically(out / "run.json", lambda f: f.write(json.dumps(run, indent=2).encode()))
+    write_atomically(out / "learning_curve.png", lambda f: plot_learning_curve(out, f))
+
+
+@dataclass
+class _Kept:
+    """What a run's folder held before this call wrote to it, so that a call stopped before it trained can
+    leave the folder as it found it: the files it held (none, for a new folder) and the folders made for it."""
+
+    out: Path
+    names: frozenset
+    made: tuple  # folders that did not exist, outermost first
+
+    @classmethod
+    def of(cls, out: Path) -> "_Kept":
+        missing = [p for p in (out, *out.parents) if not p.exists()]
+        names = frozenset(p.name for p in out.iterdir()) if out.is_dir() else frozenset()
+        return cls(out, names, tuple(reversed(missing)))
+
+    def restore(self) -> None:
+        if self.out.is_dir():
+            for p in self.out.iterdir():
+                if p.name not in self.names and p.is_file():
+                    p.unlink()
+        for folder in reversed(self.made):
+            with contextlib.suppress(OSError):  # not empty: something else was put there meanwhile
+                folder.rmdir()
 
 
 def _progress_bar(settings: TrainSettings, todo: int):
@@ -496,7 +569,7 @@ def plot_learning_curve(run_dir: str | Path, path: str | Path) -> None:
     ax.set(xlabel="timesteps (= episodes = designs tried)", ylabel="reward (traversals)", title=run_dir.name)
     ax.legend(loc="lower right")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, format="png")  # path may be a file (write_atomically's)
     plt.close(fig)
 
 
@@ -510,6 +583,10 @@ def _monitor_rewards(run_dir: Path) -> np.ndarray:
             t_start = float(json.loads(head.lstrip("#")).get("t_start", 0.0))
         except (ValueError, AttributeError):
             t_start = 0.0
-        lines = rest.splitlines()[1:]  # the header r,l,t
-        rows += [(t_start + float(t), float(r)) for r, _, t in (ln.split(",")[:3] for ln in lines if ln)]
+        for line in rest.splitlines()[1:]:  # the header r,l,t
+            try:
+                r, _, t = line.split(",")[:3]
+                rows.append((t_start + float(t), float(r)))
+            except ValueError:  # an empty line, or the last one cut by Ctrl-C while it was written
+                continue
     return np.array([r for _, r in sorted(rows)])

@@ -18,7 +18,7 @@ import time
 import warnings
 from datetime import datetime, timedelta
 
-from aero_env.config import Config, ConfigError
+from aero_env.config import Config, ConfigError, MissingExtra
 
 from .study_faults import exception_chain, interrupted, is_db_error, process_gone, process_stamp, redact
 from .tune_settings import TuneSettings
@@ -66,7 +66,7 @@ def import_optuna():
     try:
         import optuna
     except ImportError:
-        raise ConfigError("aero-env tune needs Optuna: pip install -e '.[tune]'") from None
+        raise MissingExtra("aero-env tune", "Optuna", "tune") from None
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     trials_log = logging.getLogger("optuna.study._optimize")
     if _QUIET not in trials_log.filters:

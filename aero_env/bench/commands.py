@@ -6,7 +6,7 @@ import json
 import sys
 
 from ..config import ConfigError, load_config
-from ..scene_args import PLOT_SUFFIXES, check_output, load_scene
+from ..scene_args import PLOT_SUFFIXES, add_seed, check_output, load_scene
 
 SPREAD = 0.1  # bench accuracy --near: the default half-width of the box, a fraction of each action range
 
@@ -17,7 +17,7 @@ def register(sub, scene_command) -> None:
 
     ap = scene_command(bsub, "accuracy", "every fidelity on the same random designs, against reference")
     ap.add_argument("--designs", type=int, default=50, help="random designs from the action space")
-    ap.add_argument("--seed", type=int, default=0, help="seed of the design draw")
+    add_seed(ap, 0, "seed of the design draw")
     ap.add_argument("--repeats", type=int, default=3, help="runs per design and fidelity; the median time is kept")
     ap.add_argument("--fidelities", metavar="A,B,...",
                     help="a subset of the ladder, comma-separated (absent: all of it; reference is always added)")
@@ -34,7 +34,7 @@ def register(sub, scene_command) -> None:
 
     ep = scene_command(bsub, "effects", "each effect's cost in time and whether it changes outcomes")
     ep.add_argument("--designs", type=int, default=30, help="random designs from the action space")
-    ep.add_argument("--seed", type=int, default=0, help="seed of the design draw")
+    add_seed(ep, 0, "seed of the design draw")
     ep.add_argument("--repeats", type=int, default=3, help="runs per design and effect; the median time is kept")
     ep.set_defaults(func=cmd_effects)
 
@@ -53,7 +53,7 @@ def register(sub, scene_command) -> None:
     tp.add_argument("--pool-workers", type=int, default=None,
                     help="processes of the vector env's pool at a pymunk fidelity (absent: one per core)")
     tp.add_argument("--repeats", type=int, default=3, help="measurements; the median is kept")
-    tp.add_argument("--seed", type=int, default=0, help="first episode seed")
+    add_seed(tp, 0, "first episode seed")
     tp.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
     tp.set_defaults(func=cmd_throughput)
 

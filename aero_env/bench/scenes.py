@@ -28,6 +28,7 @@ from pathlib import Path
 
 from ..config import ConfigError, load_config
 from ..design_space import changes_outside_tunables
+from ..scene_args import add_seed
 from .designs import check_counts, draw_designs
 
 DEFAULT_DIR = "configs/scenes"
@@ -120,7 +121,7 @@ def register(sub, scene_command) -> None:
     sp.add_argument("--dir", default=DEFAULT_DIR, help=f"folder of scene configs (default {DEFAULT_DIR})")
     sp.add_argument("--designs", type=int, default=DEFAULT_DESIGNS,
                     help=f"uniformly random designs per scene for its difficulty (default {DEFAULT_DESIGNS})")
-    sp.add_argument("--seed", type=int, default=DEFAULT_SEED, help=f"seed of the random designs (default {DEFAULT_SEED})")
+    add_seed(sp, DEFAULT_SEED, f"seed of the random designs (default {DEFAULT_SEED})")
     sp.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: one per core)")
     sp.add_argument("--no-reference", action="store_true", help="skip the solutions' re-check at reference")
     sp.add_argument("--json", action="store_true", help="one JSON list instead of the table")

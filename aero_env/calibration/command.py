@@ -17,7 +17,7 @@ import json
 import sys
 
 from ..config import Config, ConfigError, pymunk_fidelities
-from ..scene_args import check_output, whole_number
+from ..scene_args import add_seed, check_not_the_config, check_output, whole_number
 from . import report
 from .fit import check_box, fit, parse_fits, require_optuna
 from .measured import MeasuredSwing, load_measured
@@ -27,7 +27,6 @@ DEFAULT_SWING = 1  # the first swing entered from a flight: the one the paper me
 DEFAULT_TRIALS = 60
 MAX_TRIALS = 100_000
 MAX_SWING = 100_000  # far beyond any row; the scene's frames bound it
-MAX_SEED = 2**31 - 1
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 
 
@@ -46,7 +45,7 @@ def register(sub, scene_command) -> None:
                     f"scene.frames=N+2 ends each run soon after swing N")
     cp.add_argument("--trials", metavar="N", default=str(DEFAULT_TRIALS),
                     help=f"simulations the search may run (default {DEFAULT_TRIALS})")
-    cp.add_argument("--seed", metavar="S", default="0", help="CMA-ES seed (default 0; a one-key fit needs none)")
+    add_seed(cp, 0, "CMA-ES seed (default 0; a one-key fit needs none)")
     cp.add_argument("--out", metavar="FILE.yaml", help="write the whole config with the fitted values")
     cp.add_argument("--plot", metavar="FILE.png", help="the fitted angles against the measurement or targets")
     cp.set_defaults(func=cmd_calibrate)
@@ -56,8 +55,9 @@ def cmd_calibrate(args) -> int:
     from ..scene_args import load_scene
 
     trials = whole_number("--trials", args.trials, 1, MAX_TRIALS)
-    seed = whole_number("--seed", args.seed, 0, MAX_SEED)
+    seed = args.seed
     check_output(args.out, "--out", (".yaml", ".yml"))
+    check_not_the_config(args.out, "--out", args.config)
     check_output(args.plot, "--plot", PLOT_SUFFIXES)
     reference = _reference(args)
     cfg = load_scene(args)

@@ -27,7 +27,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..config import Config, ConfigError, real_field
+from ..config import Config, ConfigError, MissingExtra, real_field
 from .measured import MeasuredSwing
 from .scoring import Evaluation, evaluate, missed
 from .targets import Targets
@@ -182,8 +182,7 @@ def require_optuna():
     try:
         import optuna
     except ImportError:
-        raise ConfigError("aero-env calibrate with two or more --fit keys needs Optuna: "
-                          "pip install -e '.[tune]'") from None
+        raise MissingExtra("aero-env calibrate with two or more --fit keys", "Optuna", "tune") from None
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     return optuna
 

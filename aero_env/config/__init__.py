@@ -47,11 +47,11 @@ from .design_problem import DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, Co
 from .loading import Config, from_dict, load_config, parse_override, read_yaml, schema_rows
 from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, Effects, EnvOptions, Scene, Sim, check_design,
                        pymunk_fidelities, real_field, real_keys, spec)
-from .validation import ConfigError, check_value, check_values, did_you_mean
+from .validation import ConfigError, MissingExtra, check_value, check_values, did_you_mean
 
 __all__ = [
     "Config", "ConfigError", "ContextRange", "DEFAULT_CONTEXT", "DEFAULT_FIDELITY", "DEFAULT_TUNABLES", "Design",
-    "Effects", "EnvOptions", "FIDELITY_PRESETS", "LIST_SECTIONS", "SECTIONS", "Scene", "Sim", "Tolerance", "Tunable",
+    "Effects", "EnvOptions", "FIDELITY_PRESETS", "LIST_SECTIONS", "MissingExtra", "SECTIONS", "Scene", "Sim", "Tolerance", "Tunable",
     "check_design", "check_value", "check_values", "did_you_mean", "from_dict", "load_config", "parse_override",
     "pymunk_fidelities", "read_yaml", "real_field", "real_keys",
     "schema_rows", "spec",

@@ -25,6 +25,18 @@ class ConfigError(ValueError):
 ConfigError.__module__ = "aero_env.config"  # tracebacks (and the docs quoting them) name it where it is imported from
 
 
+class MissingExtra(ConfigError):
+    """A command needs packages of an extra that this install left out (the README's first command installs
+    the core only): not a slip in the config, so the command line calls it ``missing package``."""
+
+    def __init__(self, what: str, packages: str, extra: str):
+        super().__init__(f"{what} needs {packages}, which the core install (pip install -e .) leaves out: "
+                         f"pip install -e '.[{extra}]'")
+
+
+MissingExtra.__module__ = "aero_env.config"
+
+
 def check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
     """``value`` (a number, or a string with its unit) read and checked against the field ``f`` declares; a bad one
     raises one line naming ``path``, the value and the allowed range."""

@@ -12,6 +12,8 @@ from __future__ import annotations
 import json
 import time
 
+from ..scene_args import add_seed
+
 DEFAULT_DRAWS = 100
 DEFAULT_SEED = 0
 DEFAULT_WORKERS = 1
@@ -21,7 +23,7 @@ def register(sub, scene_command) -> None:
     rp = scene_command(sub, "robustness", "does a design survive being built by hand? random builds within "
                                           "tolerances, single changes, per-parameter effects")
     rp.add_argument("--draws", type=int, default=DEFAULT_DRAWS, help=f"random builds (default {DEFAULT_DRAWS})")
-    rp.add_argument("--seed", type=int, default=DEFAULT_SEED, help=f"seed of the draws (default {DEFAULT_SEED})")
+    add_seed(rp, DEFAULT_SEED, f"seed of the draws (default {DEFAULT_SEED})")
     rp.add_argument("--tolerances", metavar="FILE.yaml",
                     help="a list of {name, relative | absolute, [linked: [keys]], [reason]} replacing the default "
                          "table (aero_env/robustness/tolerances.py)")

@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 
 from ..config import Config, ConfigError
+from ..scene_args import add_seed
 
 DEFAULT_DRAWS = 50
 DEFAULT_SEED = 0
@@ -30,7 +31,7 @@ def register(sub, scene_command) -> None:
     sp.add_argument("--draws", type=int, default=DEFAULT_DRAWS,
                     help=f"hand-made builds drawn for the robustness line of a .md sheet; 0 skips it "
                          f"(default {DEFAULT_DRAWS})")
-    sp.add_argument("--seed", type=int, default=DEFAULT_SEED, help=f"seed of the draws (default {DEFAULT_SEED})")
+    add_seed(sp, DEFAULT_SEED, f"seed of the draws (default {DEFAULT_SEED})")
     sp.add_argument("--compare", metavar="CONFIG.yaml",
                     help="another design on the same scene (e.g. the one a robust tune started from): its share of "
                          "the same hand-made builds is shown beside this design's")
@@ -115,16 +116,18 @@ def cmd_sheet(args) -> int:
         compare = (args.compare, other)
     t0 = time.perf_counter()
     progress = not args.no_progress
+    # every text is made before the first file is written: a run stopped in the robustness builds (Ctrl-C, a
+    # failure) leaves no template without its sheet
     if folder:
+        files = {out / TEMPLATE_NAME: svg(cfg),
+                 out / SHEET_NAME: markdown(cfg, args.config, args.draws, args.seed, TEMPLATE_NAME, progress, compare)}
         out.mkdir(parents=True, exist_ok=True)
-        (out / TEMPLATE_NAME).write_text(svg(cfg))
-        (out / SHEET_NAME).write_text(markdown(cfg, args.config, args.draws, args.seed, TEMPLATE_NAME, progress, compare))
-        written = f"{out / SHEET_NAME} and {out / TEMPLATE_NAME}"
     elif out.suffix == ".svg":
-        out.write_text(svg(cfg))
-        written = str(out)
+        files = {out: svg(cfg)}
     else:
-        out.write_text(markdown(cfg, args.config, args.draws, args.seed, progress=progress, compare=compare))
-        written = str(out)
+        files = {out: markdown(cfg, args.config, args.draws, args.seed, progress=progress, compare=compare)}
+    for path, text in files.items():
+        path.write_text(text)
+    written = " and ".join(str(path) for path in reversed(files))
     print(f"wrote {written} in {time.perf_counter() - t0:.1f} s")
     return 0
