@@ -45,6 +45,76 @@ def test_a_linked_context_moves_its_follower_by_the_same_factor():
     assert built.design.mu_k / built.design.mu_s == pytest.approx(0.409 / 0.542)
 
 
+def _links_below_the_base_mu_k(paper, contexts):
+    """How many of ``contexts`` (each a drawn context dict) have mu_s below the base config's mu_k: with the link
+    dropped, such an episode would keep mu_k above its mu_s, a friction pair the model refuses."""
+    return sum(c["design.mu_s"] < paper.design.mu_k for c in contexts)
+
+
+def test_the_arrays_give_each_episode_what_its_own_values_give_on_a_linked_context():
+    """DesignSpace.episode_columns (the vector env's arrays) against episode_values (the single env's, one episode at a
+    time), episode by episode and field by field, bit for bit, on the maker's contexts: mu_k follows the drawn mu_s."""
+    cfg, paper = load_config(CONTEXTS), load_config(PAPER)
+    space = DesignSpace(cfg)
+    draws = [space.draw_for_seed(s) for s in range(12)]
+    actions = np.random.default_rng(5).uniform(-1.0, 1.0, (len(draws), space.dim))
+    columns, built = space.episode_columns(space.values_columns(actions), draws)
+    assert _links_below_the_base_mu_k(paper, [d.context for d in draws]) >= 2  # a sample a dropped link shows on
+    for i, draw in enumerate(draws):
+        values, built_i = space.episode_values(space.values(actions[i]), draw)
+        assert sorted(columns) == sorted(values) and sorted(built) == sorted(built_i)
+        for key, v in values.items():
+            assert columns[key][i] == v and str(columns[key][i]) == str(v), (i, key, columns[key][i], v)
+        for key, v in built_i.items():
+            assert built[key][i] == v, (i, key)
+        # the link, from the paper's ratio rather than the code that applies it
+        assert columns["design.mu_k"][i] == pytest.approx(draw.context["design.mu_s"] * paper.design.mu_k
+                                                          / paper.design.mu_s, rel=1e-12)
+
+
+def test_the_contexts_scene_at_reduced_steps_through_the_arrays_and_equals_the_per_episode_path(monkeypatch):
+    """The registered contexts scene at sim.fidelity reduced: a step goes from the actions to the model in arrays
+    (AerialAcrobatVectorEnv._run_columns), never falling back to the per-episode path, even with episodes whose
+    drawn mu_s is below the base mu_k; and what it gives equals the per-episode path on the same episodes."""
+    import gymnasium as gym
+
+    from aero_env.envs import AerialAcrobatVectorEnv
+
+    from .test_vector_env import _same
+
+    paper = load_config(PAPER)
+    envs = gym.make_vec("aero_env/AerialAcrobatContexts-v0", num_envs=8, vectorization_mode="vector_entry_point",
+                        **{"sim.fidelity": "reduced"})
+    try:
+        env = envs.unwrapped if hasattr(envs, "unwrapped") else envs
+        assert isinstance(env, AerialAcrobatVectorEnv) and env.reduced
+        _, info = envs.reset(seed=11)
+        contexts = [{k: v[i] for k, v in info["context"].items() if not k.startswith("_")} for i in range(8)]
+        assert _links_below_the_base_mu_k(paper, contexts) >= 2  # the episodes a dropped link would send elsewhere
+        actions = np.random.default_rng(2).uniform(-1.0, 1.0, (8, env.space.dim)).astype(np.float32)
+        expected_rewards, expected_info = env._run_episodes(env._plan(actions))  # the per-episode path, same draws
+        took = []
+        run_columns = AerialAcrobatVectorEnv._run_columns
+
+        def arrays(self, a):
+            out = run_columns(self, a)
+            took.append(out is not None)
+            return out
+
+        def per_episode(self, episodes):
+            raise AssertionError("the step fell back to the per-episode path")
+
+        monkeypatch.setattr(AerialAcrobatVectorEnv, "_run_columns", arrays)
+        monkeypatch.setattr(AerialAcrobatVectorEnv, "_run_episodes", per_episode)
+        _, rewards, _, _, step_info = envs.step(actions)
+    finally:
+        envs.close()
+    assert took == [True]
+    _same(rewards, expected_rewards, "rewards")
+    _same(step_info["final_info"], expected_info, "final_info")
+    assert len(set(rewards.tolist())) > 1, rewards  # a sample the comparison can fail on
+
+
 @pytest.mark.parametrize("context, match", [
     ([{"name": "design.mu_s", "low": 0.3, "high": 0.5, "linked": ["design.m3"]}],
      r"context\[0\].linked: 'design.m3' is itself tunable or context"),

@@ -2,6 +2,7 @@
 springs, masses and friction, large time steps, a 100-frame row, the hook on the handrail's edge;
 the golden record of the prototype's run."""
 
+import copy
 import itertools
 import json
 import math
@@ -9,13 +10,14 @@ from unittest import mock
 
 import gymnasium as gym
 import numpy as np
+import pymunk
 import pytest
 
 import aero_env  # noqa: F401
 from aero_env.config import load_config
 from aero_env.physics import simulate
 from aero_env.physics import run as run_module
-from aero_env.physics import body_state, check_kernel
+from aero_env.physics import body_state, check_kernel, monitors
 from aero_env.physics import world as world_module
 from aero_env.physics.swing_frame import FLOOR
 
@@ -93,6 +95,106 @@ def test_large_time_steps_agree_or_say_unstable(paper_cfg, dt):
         result, observer = observed_run(cfg, keep_rows=False)
         check_run(result, observer, cfg)
         assert result.outcome in (reference, "unstable"), f"dt={dt}: {result.outcome} ({result.reason})"
+
+
+# ---- the tunnelling watch, on a crossing no other monitor sees ----
+# At dt = 1-10 ms above, every run the watch would call unstable is caught first by the energy or penetration
+# monitor, so those runs cannot show the watch works. Here the crossing is made by hand: the hook is put on the
+# far side of a card's middle line between two steps, where it does not touch the card (no contact, no
+# penetration) and lower than it was (no energy gained). The geometry is pymunk's own (each handrail Segment's
+# a-b in its body's coordinates, the hook Circle's offset on the arm), not the watch's face table.
+def _mirror_across(rail, centre):
+    """(signed distance of world point ``centre`` from ``rail``'s middle line, its fraction along the segment,
+    the world point mirrored across that line): pymunk geometry only."""
+    p = rail.body.world_to_local(centre)
+    u = (rail.b - rail.a).normalized()
+    n = pymunk.Vec2d(u.y, -u.x)
+    d = (p - rail.a).dot(n)
+    return d, (p - rail.a).dot(u) / (rail.b - rail.a).length, rail.body.local_to_world(p - 2.0 * d * n)
+
+
+def test_the_tunnel_watch_sees_a_hook_centre_cross_a_cards_middle_line(paper_cfg):
+    """TunnelWatch on points set by hand: the hook's centre placed 3 mm before and 3 mm behind the middle of each
+    of frame 1's two card faces (beyond the 1.5 mm the contact keeps, so nothing touches) is a crossing;
+    the same moves that stay on one side, or cross the line beyond the card's end, are not."""
+    world = world_module.World(paper_cfg.replace({"scene.frames": 2}))
+    arm, hook, frame = world.robot.arm, world.robot.tip, world.frames[1]
+
+    def put_hook(local):  # the hook's centre at frame-1-local ``local``: the arm moved as one piece
+        target = frame.body.local_to_world(local)
+        arm.position += target - arm.local_to_world(hook.offset)
+
+    def watch_over(path):  # a fresh watch, stepped once at each point of ``path``: what it said each time
+        watch = monitors.TunnelWatch(world, frame)
+        said = []
+        for local in path:
+            put_hook(local)
+            said.append(watch.step())
+        return said, watch
+
+    assert len(frame.shapes) == 2
+    for rail in frame.shapes:
+        u = (rail.b - rail.a).normalized()
+        n = pymunk.Vec2d(u.y, -u.x)
+        mid, length = (rail.a + rail.b) / 2, (rail.b - rail.a).length
+        front, back = mid + 3.0 * n, mid - 3.0 * n
+        said, watch = watch_over([front, back])
+        assert said[0] is None and said[1] is not None and watch.crossed, said
+        assert said[1].startswith("the hook's centre went through frame 1's handrail card between two steps")
+        assert "moved 6.00 mm in one step" in said[1] and "sim.dt" in said[1]
+        # the way back is a crossing too; moves on one side, or past the card's end, are not
+        assert watch_over([back, front])[0][1] is not None
+        assert watch_over([front, front + 2.0 * u])[0] == [None, None]
+        beyond = rail.b + (0.5 * length) * u
+        said, watch = watch_over([beyond + 3.0 * n, beyond - 3.0 * n])
+        assert said == [None, None] and not watch.crossed
+    # a crossing sank the hook at least its radius plus half the card (the config's values)
+    assert watch.depth() == pytest.approx(paper_cfg.design.hook_radius + 0.5 * paper_cfg.design.handrail_thickness)
+
+
+def _jumped_world(moves: list):
+    """A World that, once, at the first step its hook's centre is 0-3 mm outside the contact's reach of one of frame
+    1's card faces, within the face's middle 60 %, moves the robot (both bodies, velocities kept) so that the centre
+    lands mirrored across that face's middle line: through the card in one step. Records (t, the centre's distance
+    from the line, the robot's move in y) in ``moves``."""
+
+    class Jumped(world_module.World):
+        def step(self):
+            super().step()
+            if moves or len(self.frames) < 2:
+                return
+            hook = self.robot.tip
+            centre = hook.body.local_to_world(hook.offset)
+            for rail in self.frames[1].shapes:
+                d, along, mirrored = _mirror_across(rail, centre)
+                reach = hook.radius + rail.radius
+                if 0.2 < along < 0.8 and reach < abs(d) < reach + 3.0:
+                    for b in self.robot.bodies:
+                        b.position += mirrored - centre
+                    moves.append((self.t, abs(d), (mirrored - centre).y))
+                    return
+
+    return Jumped
+
+
+def test_a_hook_moved_through_a_card_between_two_steps_is_unstable_by_the_tunnel_watch(paper_cfg):
+    cfg = paper_cfg.replace({"scene.frames": 2})
+    d = cfg.design
+    moves = []
+    with mock.patch.object(run_module, "World", _jumped_world(moves)):
+        result = run_module.simulate(cfg)
+    assert len(moves) == 1 and moves[0][2] < 0.0, moves  # one jump, downward: the robot gained no energy by it
+    assert result.outcome == "unstable", result.reason
+    assert result.reason.startswith("the hook's centre went through frame 1's handrail card between two steps")
+    assert result.sim_time == pytest.approx(moves[0][0])  # ended at the step it happened
+    # the health record books the crossing as a sink of the hook's radius plus half the card (config values)
+    assert result.health["penetration"] == pytest.approx(d.hook_radius + 0.5 * d.handrail_thickness)
+    # and no other monitor sees this crossing: with the watch silenced the same jump runs on to a miss
+    moves.clear()
+    with mock.patch.object(run_module, "World", _jumped_world(moves)), \
+            mock.patch.object(monitors.TunnelWatch, "step", lambda self: None):
+        blind = run_module.simulate(cfg)
+    assert len(moves) == 1 and blind.outcome != "unstable", (blind.outcome, blind.reason)
 
 
 def test_the_default_time_step_has_a_margin(paper_cfg):
@@ -188,13 +290,18 @@ def test_the_prototype_agrees_with_its_golden_record_within_stated_tolerances(go
     assert tolerances.departures(actual, expected, _seconds_per_row()) == []
 
 
+def _record(cfg, overrides):
+    """The run of ``cfg`` with ``overrides`` as the golden record holds it (through the same JSON round trip)."""
+    r = simulate(cfg.replace(overrides), trace=True)
+    return json.loads(json.dumps({**r.to_json_dict(), "trace_rows": len(r.trace["t"])}))
+
+
 def test_the_golden_tolerances_absorb_last_bit_changes_and_catch_physical_ones(golden, paper_cfg):
     expected, _ = golden
     d = paper_cfg.design
 
     def record(overrides):
-        r = simulate(paper_cfg.replace(overrides), trace=True)
-        return json.loads(json.dumps({**r.to_json_dict(), "trace_rows": len(r.trace["t"])}))
+        return _record(paper_cfg, overrides)
 
     # a libm's worth of difference (m1 one part in 1e15): the run differs in its last bits, within tolerance
     nudged = record({"design.m1": d.m1 * (1 + 1e-15)})
@@ -203,6 +310,51 @@ def test_the_golden_tolerances_absorb_last_bit_changes_and_catch_physical_ones(g
     # a physical change: the counterbalance 1 % heavier moves the detaches (measured 7.5 ms, 1.0 deg)
     heavier = tolerances.departures(record({"design.m3": d.m3 * 1.01}), expected, _seconds_per_row())
     assert any(".t_detach" in line for line in heavier), heavier
+
+
+# A plausible physical change of each whole-run quantity alone, in the record's units: each must be a departure
+# of that quantity and of nothing else (tests/golden/tolerances.py says why each tolerance has its size).
+WHOLE_RUN_CHANGES = {
+    "sim_time": lambda x: x + 0.01,  # the last catch 10 ms later
+    "energy.initial": lambda x: x * (1 + 1e-6),  # a start one part in a million off (a mass, a height)
+    "energy.final": lambda x: x * 1.05,  # 5 % more energy left at the end (less dissipated)
+    "energy.max_rise": lambda x: x + 3e-7,  # a rise of 3e-7 J somewhere: far under sim.energy_tolerance
+    "energy.max_gain": lambda x: x + 3e-7,  # the run rose 3e-7 J above its start
+    "health.joint_drift": lambda x: x * 1.4,  # the axle gives 40 % more at a catch
+    "health.limit_overshoot_deg": lambda x: x + 0.6,  # the arm snaps 0.6 deg further past its stop
+    "health.penetration": lambda x: x * 1.4,  # the hook lands 40 % deeper
+}
+
+
+def _set(record: dict, dotted: str, change) -> dict:
+    out = copy.deepcopy(record)
+    *path, last = dotted.split(".")
+    inner = out
+    for part in path:
+        inner = inner[part]
+    inner[last] = change(inner[last])
+    return out
+
+
+@pytest.mark.parametrize("key", sorted(WHOLE_RUN_CHANGES))
+def test_the_golden_whole_run_tolerances_catch_a_physical_change_of_each_quantity(golden, key):
+    expected, _ = golden
+    assert set(WHOLE_RUN_CHANGES) == set(tolerances.RUN)  # every whole-run quantity has its change here
+    changed = _set(expected, key, WHOLE_RUN_CHANGES[key])
+    lines = tolerances.departures(changed, expected, _seconds_per_row())
+    assert len(lines) == 1 and lines[0].startswith(f"{key}: "), lines
+
+
+def test_the_golden_whole_run_tolerances_absorb_a_last_bit_change_that_moves_an_event(golden, paper_cfg):
+    """theta2's start one part in 1e15 lower: the catches move by steps (sim_time 3.5 ms earlier, the energy left 0.7 %,
+    the arm's overshoot 0.31 deg, the landing 0.055 mm deeper: tolerances.py's largest measured departures), which the
+    whole-run tolerances must take. Some single swings move past their own tolerances (tolerances.py says so)."""
+    expected, _ = golden
+    nudged = _record(paper_cfg, {"scene.theta2_start_deg": paper_cfg.scene.theta2_start_deg * (1 - 1e-15)})
+    assert nudged["sim_time"] != expected["sim_time"]  # an event did move
+    assert nudged["energy"]["final"] != pytest.approx(expected["energy"]["final"], rel=0.005)
+    assert [line for line in tolerances.departures(nudged, expected, _seconds_per_row())
+            if not line.startswith("swings")] == []
 
 
 def test_a_fall_ends_when_the_hook_reaches_the_floor_before_the_floors_impact(paper_cfg):

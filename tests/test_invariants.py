@@ -16,10 +16,16 @@ from __future__ import annotations
 
 import math
 
+from unittest import mock
+
 import numpy as np
+import pymunk
 import pytest
 
-from .invariants import AUDIT_EVERY, observed_run, stepped, swing_scale
+import aero_env.physics.run as run_module
+from aero_env.physics.world import World
+
+from .invariants import AUDIT_EVERY, Observer, observed_run, stepped, swing_scale
 
 # ------------------------------------------------------------------------- scenes
 # Conservation tolerances are fractions of the swing's energy scale S = (m2 + m3)·g·(La + Lb) (swing_scale).
@@ -117,6 +123,55 @@ def test_runner_books_the_same_energy_as_the_recount(prototype):
     audit = [(r["energy"], r["world_energy"]) for r in obs.rows if "world_energy" in r]
     assert len(audit) >= len(obs.rows) // AUDIT_EVERY
     assert max(abs(a - b) for a, b in audit) < 1e-12
+
+
+def _kicked_world(kick_step: int, spin: float, observers: list):
+    """A World observed every step that, after runner step ``kick_step``, turns frame 0 and the robot together about
+    frame 0's skewer ``spin`` rad/s faster: each body's centre of gravity gets spin x (its offset from the skewer),
+    its angular velocity ``spin`` more. A rigid motion of the hanging machine, which every joint and the hook's
+    contact allow, so the solver keeps the energy it adds."""
+
+    class Kicked(World):
+        def __init__(self, cfg):
+            super().__init__(cfg)
+            self._observer = Observer(self)
+            observers.append(self._observer)
+
+        def step(self):
+            super().step()
+            if self.steps == kick_step:
+                frame = self.frames[0].body
+                axis = frame.local_to_world((0.0, 0.0))
+                for b in (frame, *self.robot.bodies):
+                    r = b.local_to_world(b.center_of_gravity) - axis
+                    b.velocity += pymunk.Vec2d(-r.y, r.x) * spin
+                    b.angular_velocity += spin
+            self._observer()
+
+    return Kicked
+
+
+def test_the_energy_monitors_max_gain_is_the_recounted_gain_above_the_start(paper_cfg):
+    """``energy.max_gain``: the most the energy rose above its start. The prototype never gains (its max_gain is 0),
+    so a gain is planted: at the first check, frame 0 and the hanging robot turn 1 rad/s faster together (about
+    5e-5 J, below sim.energy_tolerance's 7.6e-5 J: the run goes on). The monitor reads the energy on the check
+    cadence and at the run's end; the recount (tests/invariants.py, from pymunk's bodies) reads every step, so the
+    report lies between the recount's gain at those reads and its gain at any step."""
+    cfg = paper_cfg.replace({"scene.frames": 2})
+    step_s = cfg.sim.dt * cfg.sim.substeps
+    every = max(1, round(cfg.sim.check_interval / step_s))  # runner steps between checks
+    observers = []
+    with mock.patch.object(run_module, "World", _kicked_world(every, 1.0, observers)):
+        result = run_module.simulate(cfg)
+    (obs,) = observers
+    e = obs.column("energy")  # e[k]: after k runner steps; e[0] the start
+    assert len(e) == round(result.sim_time / step_s) + 1
+    gain = [x - e[0] for x in e]
+    at_reads = max(max(gain[k] for k in range(every, len(gain), every)), gain[-1])
+    assert at_reads > 3e-5 and max(gain[:every]) < 1e-6  # the planted gain, and nothing like it before
+    assert result.outcome != "unstable", result.reason
+    assert result.energy["initial"] == pytest.approx(e[0], rel=1e-12)
+    assert at_reads - 1e-12 <= result.energy["max_gain"] <= max(gain) + 1e-12, (result.energy, at_reads, max(gain))
 
 
 # ------------------------------------------------------------------------- 2. penetration

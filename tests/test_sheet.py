@@ -1,5 +1,6 @@
 """``aero-env sheet``: a maker's build sheet and 1:1 template, read back against the config."""
 
+import math
 import re
 import xml.dom.minidom
 
@@ -200,3 +201,57 @@ def test_the_sheet_compares_another_design_on_the_same_builds(tmp_path, capsys):
     assert main(["sheet", str(solution), "--out", str(out), "--compare", str(ROOT / "configs/paper.yaml")]) == 2
     assert "not the same scene and robot, only another design (design.coin_mass, design.m2 differ)" in \
         capsys.readouterr().err
+
+
+# ---- the spring strip's stiffness, by the bending law written out here ----
+# card.py's model: a strip of width w with free length L between its glue lines, n strips stacked loose, gives a
+# torque n·D·w·Δα / L (pure bending), D the card's bending stiffness per unit width. D is the one fitted constant:
+# the paper's K_T = 0.877 N·mm/rad (Fig. 22) on the assumed prototype strip, 5 mm wide and 20 mm free.
+def _torque_per_radian(D, strip):
+    return strip.layers * D * strip.width / strip.free_length
+
+
+@pytest.mark.parametrize("k, arm_mm, bend_deg, how", [
+    (8.77e-4, 30.0, 60.0, "width"),  # the prototype: the free length kept, the width chosen
+    (3.5e-3, 30.0, 60.0, "layers"),  # too stiff for one strip 8 mm wide: stacked
+    (5e-3, 30.0, 30.0, "shorter"),  # too stiff for three: full width, shorter (a 30 deg bend allows it)
+    (2e-4, 50.0, 60.0, "longer"),  # too soft for a 2 mm strip 20 mm long: longer (a 50 mm arm has room)
+])
+def test_the_planned_strip_gives_the_stiffness_asked_for_and_the_plan_says_so(k, arm_mm, bend_deg, how):
+    from aero_env.sheet.card import PAPER_CARD
+    from aero_env.sheet.spring_strip import plan_strip
+
+    D = PAPER_CARD.bending_stiffness
+    assert D == pytest.approx(0.877e-3 * 20e-3 / 5e-3, rel=1e-3)  # the card's constant is the fit written out
+    plan = plan_strip(k, PAPER_CARD, arm_mm * 1e-3, math.radians(bend_deg))
+    st = plan.strip
+    assert st is not None, plan.why_not
+    assert {"width": st.layers == 1 and st.free_length == 20e-3 and 2e-3 < st.width < 8e-3,
+            "layers": st.layers > 1 and st.free_length == 20e-3,
+            "shorter": st.layers == 3 and st.width == 8e-3 and st.free_length < 20e-3,
+            "longer": st.layers == 1 and st.width == 2e-3 and st.free_length > 20e-3}[how], st
+    # the strip to cut gives k by the law, and the stiffness the plan reports (the template prints it) is the law's
+    assert _torque_per_radian(D, st) == pytest.approx(k, rel=1e-12)
+    assert plan.stiffness == pytest.approx(_torque_per_radian(D, st), rel=1e-12)
+
+
+@pytest.mark.parametrize("law", ["linear", "stiffening"])
+@pytest.mark.parametrize("k", [8.77e-4, 1.5e-3, 3.5e-3])
+def test_the_template_prints_the_stiffness_its_strip_gives(paper_cfg, k, law):
+    from aero_env.sheet.card import PAPER_CARD
+    from aero_env.sheet.template import spring
+
+    cfg = paper_cfg.replace({"design.spring_k": k, "scene.effects.spring_law": law})
+    d = cfg.design
+    bend = math.radians(d.alpha_max_deg - d.alpha_min_deg)
+    # the linear stiffness the strip must have: k itself, or for the stiffening law (torque k/2·Δα²) the one with
+    # the same torque at full bend, k·bend/2
+    linear = k if law == "linear" else k * bend / 2
+    caption = " ".join(spring(cfg, PAPER_CARD).caption)
+    m = re.search(r"\(([0-9.]+) N·mm/rad\)", caption)
+    assert m, caption
+    assert float(m.group(1)) == pytest.approx(linear * 1e3, abs=0.0005)  # printed to 3 decimals
+    # and the strip it draws gives that by the law (widths and free length as printed, 0.1 mm)
+    w, free = (float(x) for x in re.search(r"([0-9.]+) mm wide, ([0-9.]+) mm free", caption).groups())
+    n = int(re.search(r"cut (\d+) strip", caption).group(1))
+    assert n * PAPER_CARD.bending_stiffness * w / free == pytest.approx(linear, rel=0.02)

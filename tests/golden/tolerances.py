@@ -12,7 +12,7 @@ quantity             measured    tolerance  note
 ===================  ==========  =========  ==============================================
 t_catch, t_detach    1.5 ms      5 ms       3 steps; the tolerance 10 steps
 swing_duration       1.0 ms      4 ms
-sim_time             1.0 ms      5 ms       the last catch's time plus its hold
+sim_time             3.5 ms      5 ms       the last catch's time plus its hold (see below)
 theta1_catch_deg     0.032 deg   0.15 deg   the waiting frame sits at its rest angle
 theta1_detach_deg    0.28 deg    1.0 deg
 alpha_detach_deg     0.26 deg    1.0 deg
@@ -21,13 +21,29 @@ catch_seat_mm        0.38 mm     1.2 mm     where the hook lands: the most sensi
 hook_along/across    0.43 mm     1.5 mm
 omega1_catch         0.036 rad/s 0.15 rad/s
 robot_speed_catch    0.0046 m/s  0.02 m/s
-energy.initial       2e-15 J     rel 1e-9   the start's state, no event before it
-energy.final         2.1e-5 J    rel 10 %   (2.5 % of 8.3e-4 J)
-energy.max_rise      4.7e-7 J    2e-6 J     (of 1.5e-6 J)
-health.joint_drift   1.8e-5 m    7e-5 m     (of 1.4e-4 m)
-health.limit_over..  0.14 deg    0.5 deg    (of 0.77 deg)
-health.penetration   1.3e-4 m    4e-4 m     (of 5.6e-4 m)
+energy.initial       1.4e-14 J   rel 1e-9   the start's state, no event before it
+energy.final         1.5e-5 J    rel 2 %    (0.71 % of 2.17e-3 J)
+energy.max_rise      4.2e-8 J    1e-7 J     (of 4.2e-8 J: the start's settling; some runs read 0)
+energy.max_gain      0           1e-7 J     (of 0: the prototype never rises above its start)
+health.joint_drift   1.3e-5 m    rel 25 %   (8.8 % of 1.49e-4 m)
+health.limit_over..  0.31 deg    0.5 deg    (28 % of 1.12 deg)
+health.penetration   6.0e-5 m    rel 30 %   (12 % of 5.03e-4 m)
 ===================  ==========  =========  ==============================================
+
+The whole-run rows were measured again on 140 runs of the Table 1 robot (design.m1, m2, Lb, La, h, mu_s, mu_k,
+spring_k, arm_mass, coin_mass, handrail_mass, hook_radius, pivot and axle friction, scene.theta2_start_deg, each
+nudged by 1e-15 to 5e-13), and each tolerance is about two to three times the largest departure seen, on the
+quantity's own scale: relative where the quantity is a size of the run (the energy left, the drift, the depth),
+absolute where it sits at or near zero (max_rise, max_gain) or on the event grid (sim_time). Tolerances that
+were loose beyond that (energy.final 10 %, max_rise 2e-6 J, 50 times its value, max_gain 1e-6 J, drift 47 %,
+penetration 80 %) let a physical change through: 5 % more energy left at the end, a gain of a few 1e-7 J, a
+drift or a depth 40 % larger (tests/test_hard_cases.py changes each alone).
+
+Event flips: in 41 of the 140 runs a catch or a detach moved by steps, and sim_time with it: by -3.5 ms in 26,
++1 ms in 9, -13 ms in 6 (those 6 are outside sim_time's 5 ms). All 41 also move single swings past the
+per-swing tolerances above (robot_speed_catch up to 0.048 m/s, theta2_catch_deg up to 7 deg, t_catch up to
+22.5 ms, hook_along/across up to 1.9 mm): the per-swing rows were measured on the earlier robot and do not
+hold for every last-bit change of this one. The 99 runs with no flip are within every tolerance.
 
 Exact on any platform: the outcome, its reason, the traversals, the frame count, which frames caught
 the robot, which numbers are absent (None). The trace's row count follows sim_time: within
@@ -52,12 +68,25 @@ SWING = {
     "catch_seat_mm": 1.2, "hook_along_catch_mm": 1.5, "hook_across_catch_mm": 1.5,
     "omega1_catch": 0.15, "robot_speed_catch": 0.02,
 }
-# whole-run quantity: (absolute, relative) tolerance; either suffices
+# whole-run quantity: (absolute, relative) tolerance; either suffices. Each about 2-3x the largest departure of 140
+# last-bit nudged runs (the table above), on the quantity's own scale.
 RUN = {
+    # s, on the event grid: a catch a step or two earlier (measured 3.5 ms); a 5 ms shift is a whole run's events
     "sim_time": (0.005, 0.0),
-    "energy.initial": (0.0, 1e-9), "energy.final": (0.0, 0.10), "energy.max_rise": (2e-6, 0.0),
-    "energy.max_gain": (1e-6, 0.0),
-    "health.joint_drift": (7e-5, 0.0), "health.limit_overshoot_deg": (0.5, 0.0), "health.penetration": (4e-4, 0.0),
+    # the start's state alone, no event before it (measured 6e-13 relative)
+    "energy.initial": (0.0, 1e-9),
+    # what seven catches and the frictions leave of 0.024 J (measured 0.71 %); 5 % more or less is physics
+    "energy.final": (0.0, 0.02),
+    # J, near zero: the start's settling is 4.2e-8 J (measured departure 4.2e-8, a run whose reads miss it)
+    "energy.max_rise": (1e-7, 0.0),
+    # J, zero here: the prototype never rises above its start (measured 0); the same scale as max_rise
+    "energy.max_gain": (1e-7, 0.0),
+    # of 0.149 mm, the arm's axle after a catch (measured 8.8 %)
+    "health.joint_drift": (0.0, 0.25),
+    # deg, of 1.12 deg, the arm's snap onto its stop, which an event flip moves (measured 0.31 deg)
+    "health.limit_overshoot_deg": (0.5, 0.0),
+    # of 0.503 mm, the deepest landing (measured 12 %)
+    "health.penetration": (0.0, 0.30),
 }
 TRACE_ROW_SECONDS = 0.005  # the trace's length may differ by sim_time's tolerance, in rows
 
