@@ -72,7 +72,10 @@ def plot_angles(result: SimResult, path: str | Path, title: str = "") -> None:
     plt.close(fig)
 
 
-ANIMATION_FPS = 30
+# 25 fps, not 30: a GIF stores each frame's delay in whole centiseconds, so 30 fps's 33.3 ms became 30 ms and every
+# animation played 3.5x slow, not 4x (with the runner's rounding of 1/120 s to 17 steps of 0.5 ms). A 40 ms frame is
+# exact, and the default pose interval, 1/(25 x 4) = 10 ms, is a whole number of runner steps at every fidelity.
+ANIMATION_FPS = 25
 
 
 def pose_interval(slowmo: float, fps: float = ANIMATION_FPS) -> float:
@@ -93,14 +96,26 @@ class Canvas:
     """Draws the machine (SI geometry from :meth:`World.geometry`) into fixed-size RGB images."""
 
     BACKGROUND = (250, 250, 247)
+    MARGIN_PX, CAPTION_PX = 6, 18  # room for the dots drawn around points (radius 5 px); the caption's line on top
 
     def __init__(self, geometry: dict, width: int = 720, height: int = 300):
         self.g, self.width, self.height = geometry, width, height
-        axes = geometry["axes"]
+        g, axes = geometry, geometry["axes"]
         xmin, xmax = axes[0][0] - 0.09, axes[-1][0] + 0.09
-        ymid = (axes[0][1] + axes[-1][1]) / 2.0
-        self.scale = width / (xmax - xmin)
-        self.origin = (xmin, ymid + height / self.scale * 0.4)
+        # The view holds every pose, not only the axes' line: fitting the width alone made a short row (3 frames)
+        # so large that the robot hanging from the last frame fell off the bottom edge. A frame reaches `reach`
+        # from its axis; the robot hangs at most arm + torso below a hook that a frame holds, and never below the floor.
+        reach = max(g["Lb"], math.hypot(g["La"], g["h"]))
+        ys = [y for _x, y in axes]
+        (fxa, fya), (fxb, fyb) = g["floor"]
+        floor_y = min(fya + (x - fxa) * (fyb - fya) / (fxb - fxa) for x in (xmin, xmax))  # under the view's ends
+        ymin = min(min(ys) - reach - g["arm_length"] - g["torso_length"], floor_y)
+        ymax = max(ys) + reach
+        m = self.MARGIN_PX
+        self.scale = min((width - 2 * m) / (xmax - xmin), (height - 2 * m - self.CAPTION_PX) / (ymax - ymin))
+        # the view's box centred in the image, below the caption
+        cx, cy = (xmin + xmax) / 2.0, (ymin + ymax) / 2.0
+        self.origin = (cx - width / 2.0 / self.scale, cy + (height + self.CAPTION_PX) / 2.0 / self.scale)
 
     def px(self, p):
         return ((p[0] - self.origin[0]) * self.scale, (self.origin[1] - p[1]) * self.scale)
@@ -181,4 +196,6 @@ def write_gif(result: SimResult, path: str | Path, fps: int = ANIMATION_FPS) -> 
     # One shared palette (the drawing uses a dozen colours): per-frame quantization is 5x slower.
     palette = Image.fromarray(rgb[len(rgb) // 2]).quantize(colors=32, method=Image.Quantize.MEDIANCUT)
     frames = [Image.fromarray(f).quantize(palette=palette, dither=Image.Dither.NONE) for f in rgb]
-    frames[0].save(path, save_all=True, append_images=frames[1:], duration=int(1000 / fps), loop=0)
+    # the delay in whole centiseconds, as the GIF stores it (Pillow would truncate the rest silently)
+    frame_ms = 10 * round(100 / fps)
+    frames[0].save(path, save_all=True, append_images=frames[1:], duration=frame_ms, loop=0)

@@ -317,12 +317,12 @@ def test_rgb_array_frames_have_a_stable_shape():
     listed.reset(seed=0)
     listed.step(listed.unwrapped.action_for())
     frames = listed.render()
-    # the two-traversal run lasts about 1.1 s, shown 4x slower at 30 fps
+    # the two-traversal run lasts about 1.1 s, shown 4x slower at 25 fps
     assert len(frames) > 100 and {f.shape for f in frames} == {(200, 400, 3)}
 
 
 def test_render_after_a_run_shorter_than_one_pose_interval():
-    # the run ends unstable within 0.02 s, well inside one pose interval (1/(30 fps x 0.1) = 0.33 s)
+    # the run ends unstable within 0.02 s, well inside one pose interval (1/(25 fps x 0.1) = 0.4 s)
     env = make(render_mode="rgb_array_list", **SHORT, **{"sim.max_speed": 0.01, "env.render_slowmo": 0.1})
     env.reset(seed=0)
     _, reward, *_, info = env.step(env.unwrapped.action_for())

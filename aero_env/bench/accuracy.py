@@ -262,6 +262,15 @@ def _interval(bounds: list | None) -> str:
 
 def plot_pareto(report: dict, path: str) -> None:
     """Outcome agreement against wall time per design: the accuracy/time Pareto front."""
+    import matplotlib.pyplot as plt
+
+    fig = pareto_figure(report)
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def pareto_figure(report: dict):
+    """:func:`plot_pareto`'s figure, laid out and labelled, not saved."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -278,11 +287,14 @@ def plot_pareto(report: dict, path: str) -> None:
             pareto.append((x, y))
             best = y
     ax.step(*zip(*pareto), where="post", color="0.6", lw=1, zorder=1, label="Pareto front")
+    labels = []
     for r, x, y in zip(rows, xs, ys):
         default = r["name"] == report["default"]
         ax.scatter([x], [y], s=60 if default else 30, color="C3" if default else "C0", zorder=2)
-        ax.annotate(r["name"] + (" (default)" if default else ""), (x, y), textcoords="offset points",
-                    xytext=(5, -12 if y > 97 else 5), fontsize=8)
+        # the 100 % row sits under the top of the axes: its labels go below the points, the others above
+        step = -11 if y > 97 else 11
+        labels.append((ax.annotate(r["name"] + (" (default)" if default else ""), (x, y), textcoords="offset points",
+                                   xytext=(5, -12 if step < 0 else 5), fontsize=8), step))
     ax.set_xscale("log")
     ax.set_xlabel("wall time per design (s, log)")
     ax.set_ylabel("same traversal count as reference (%)")
@@ -290,6 +302,23 @@ def plot_pareto(report: dict, path: str) -> None:
     ax.set_ylim(min(ys) - 5, 101)
     ax.grid(alpha=0.3)
     ax.legend(loc="lower right", fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    fig.tight_layout()  # room for the labels first: moving them down and up below keeps their widths
+    _separate_labels(fig, labels)
+    return fig
+
+
+def _separate_labels(fig, labels: list) -> None:
+    """Move each (annotation, step) ``step`` points further from its point until it overlaps no label before it:
+    fidelities a few ms apart (mbd, mbd-fine) printed their names on top of each other. Measured in display
+    coordinates, so after the layout."""
+    renderer = fig.canvas.get_renderer()
+    placed = []
+    for ann, step in labels:
+        dx, dy = ann.xyann
+        # 2n + 1 tries suffice: a label shorter than a step overlaps at most two positions of another point's column
+        for k in range(2 * len(labels) + 1):
+            ann.xyann = (dx, dy + k * step)
+            box = ann.get_window_extent(renderer)
+            if not any(box.overlaps(other) for other in placed):
+                break
+        placed.append(box)
