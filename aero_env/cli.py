@@ -31,7 +31,7 @@ from importlib.metadata import PackageNotFoundError, entry_points, version
 
 from . import quantities
 from .config import ConfigError, MissingExtra, schema_rows
-from .scene_args import PLOT_SUFFIXES, check_output, load_scene
+from .scene_args import CSV_SUFFIXES, PLOT_SUFFIXES, check_output, load_scene
 
 __all__ = ["build_parser", "main"]
 
@@ -71,7 +71,7 @@ def cmd_simulate(args) -> int:
     from .simulation import simulate
     from .render import pose_interval
 
-    check_output(args.trace, "--trace")
+    check_output(args.trace, "--trace", CSV_SUFFIXES)
     check_output(args.plot, "--plot", PLOT_SUFFIXES)
     check_output(args.gif, "--gif", (".gif",))
     cfg = load_scene(args)

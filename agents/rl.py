@@ -228,7 +228,21 @@ def _sb3():
     except ImportError:
         raise MissingExtra("aero-env train", "stable-baselines3 and torch", "rl") from None
     torch.set_num_threads(1)  # the networks are tiny: one thread is fastest and keeps runs bit-identical
+    one_numba_thread()
     return stable_baselines3
+
+
+def one_numba_thread() -> None:
+    """The reduced model's batches on one thread while a policy trains or plays, unless ``NUMBA_NUM_THREADS`` is set.
+
+    Training alternates a batch of ``n_envs`` designs with torch's update. On an idle 2-core machine a second
+    numba thread saves about 0.3 ms of a 16-design batch; on a busy one, numba's OpenMP workers spin on the
+    cores between batches and the docs' vector run at ``reduced`` took 48.5 s instead of 5.9 s (issue 36). The
+    results are the same bits on any number of threads (tests/test_reduced_kernel.py)."""
+    if "NUMBA_NUM_THREADS" not in os.environ:
+        import numba
+
+        numba.set_num_threads(1)
 
 
 def make_env(cfg_dict: dict, monitor_file: str | None = None):

@@ -31,6 +31,7 @@ def params(model) -> list[np.ndarray]:
     return [p.detach().cpu().numpy().copy() for p in model.policy.parameters()]
 
 
+@pytest.mark.slow
 def test_short_ppo_trains_saves_loads_and_evaluates_deterministically(scene, tmp_path):
     settings = TrainSettings(algo="ppo", timesteps=64, seed=1, eval_every=32, progress=False,
                              hyperparameters={"n_steps": 32, "batch_size": 32, "n_epochs": 2})
@@ -68,6 +69,7 @@ BALANCE = {"scene.frames": 3, **COARSE,
            "context": [{"name": "design.m2", "low": 0.0062, "high": 0.011}]}
 
 
+@pytest.mark.slow
 def test_training_makes_the_design_follow_the_context_the_way_that_scores(tmp_path):
     cfg = load_config(PAPER, BALANCE)
     train(cfg, TrainSettings(algo="ppo", timesteps=512, seed=0, eval_every=0, progress=False,
@@ -123,6 +125,7 @@ def test_evaluate_refuses_a_directory_that_is_not_a_run(tmp_path):
         evaluate(tmp_path)
 
 
+@pytest.mark.slow
 def test_cli_train_two_vector_envs_then_evaluate(tmp_path):
     args = [sys.executable, "-m", "aero_env.cli"]
     varied = str(PAPER.parent / "varied.yaml")  # trained on the varied scene: the observation means something
@@ -178,6 +181,7 @@ def test_the_varied_config_is_the_registered_varied_scene():
     assert [c.name for c in varied.context if c.low is not None] == ["scene.rise", "design.m2"]
 
 
+@pytest.mark.slow
 def test_rl_zoo_trains_on_the_env_as_it_is(tmp_path):
     # The command docs/agents.md gives, at a tiny budget: the Zoo imports aero_env, makes the registered env
     # and trains on it, with no wrapper or hyper-parameter file of ours
@@ -279,3 +283,25 @@ def test_the_progress_bar_counts_the_whole_rollouts_ppo_takes(tmp_path, monkeypa
     assert "PPO trains in whole rollouts of n_steps x n_envs = 16 x 1 = 16 steps: 40 steps to go become 48" in \
         capsys.readouterr().err
     assert progress_plan(settings, 48)[2] is None  # a budget of whole rollouts needs no word
+
+
+def test_a_policy_runs_the_reduced_models_batches_on_one_thread_unless_numba_is_told(monkeypatch):
+    """numba's OpenMP workers spin between a training run's small batches and take a busy machine's cores
+    (issue 36): training and evaluation use one thread, and NUMBA_NUM_THREADS, where set, wins."""
+    import numba
+
+    from agents.rl import _sb3
+
+    cores = numba.config.NUMBA_NUM_THREADS
+    before = numba.get_num_threads()
+    try:
+        monkeypatch.delenv("NUMBA_NUM_THREADS", raising=False)
+        numba.set_num_threads(cores)
+        _sb3()
+        assert numba.get_num_threads() == 1
+        monkeypatch.setenv("NUMBA_NUM_THREADS", str(cores))
+        numba.set_num_threads(cores)
+        _sb3()
+        assert numba.get_num_threads() == cores
+    finally:
+        numba.set_num_threads(before)

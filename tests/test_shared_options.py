@@ -105,3 +105,10 @@ def test_a_missing_extra_is_named_as_a_missing_package_not_a_config_error(monkey
     code = main(["tune", str(PAPER), "--trials", "1", "--out", str(tmp_path / "b.yaml")])
     line = one_line_error(capsys, code, "aero-env: missing package:", "Optuna", "pip install -e '.[tune]'")
     assert "config error" not in line and not (tmp_path / "b.yaml").exists()
+
+
+def test_a_trace_is_written_only_under_a_csv_name(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr("aero_env.simulation.simulate", lambda *a, **k: pytest.fail("ran before the refusal"))
+    code = main(["simulate", str(PAPER), "--trace", str(tmp_path / "x.yaml")])
+    one_line_error(capsys, code, "--trace", "'.yaml'", ".csv")
+    assert list(tmp_path.iterdir()) == []
