@@ -30,6 +30,7 @@ def test_env_step():
     assert r["prototype"]["reward"] == 7.0  # the prototype completes its row through env.step
 
 
+@pytest.mark.slow
 def test_reduced_speed():
     r = _bench("reduced_speed.py", "--designs", "40", "--repeats", "1", "--threads", "1")
     assert r["designs"] == 40 and r["threads"] == 1 and sum(r["outcomes"].values()) == 40
@@ -38,6 +39,7 @@ def test_reduced_speed():
     assert "--threads = 0" in err
 
 
+@pytest.mark.slow
 def test_reduced_agreement_caches_the_pymunk_runs(tmp_path):
     cache = tmp_path / "runs.json"
     first = _bench("reduced_agreement.py", "--designs", "6", "--seed", "3", "--cache", str(cache))
@@ -75,6 +77,7 @@ def test_tuning_benchmarks(script, args, key):
         assert r["screen_designs"] == 50 and 0 <= screened["screen_full_rows"] <= 50
 
 
+@pytest.mark.slow
 def test_step_agreement_scores_each_setting_against_the_reference_on_its_converged_designs():
     # a setting given as the reference's own step and iterations is the reference by another route: it must agree
     # on every converged design; the coarse one's misses are the designs it counts differently, each listed with
@@ -108,6 +111,7 @@ def test_step_agreement_scores_each_setting_against_the_reference_on_its_converg
         assert "--only" in _bench("step_agreement.py", "--designs", "6", "--only", bad, expect=2)
 
 
+@pytest.mark.slow
 def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_change_a_designs_count():
     # --builds K: a converged design is robust when all K builds keep its count at the config's fidelity. The
     # builds are aero-env robustness's own draws (its default table, the same seed), recomputed here through it,
@@ -165,6 +169,7 @@ def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_ch
     assert "equals --seed" in _bench("step_agreement.py", "--seed", "0", "--builds", "2", expect=2)
 
 
+@pytest.mark.slow
 def test_step_agreement_near_a_design_runs_the_designs_bench_accuracy_draws_there():
     # --near draws around the config's design, as bench accuracy --near does: the reference's counts are those of
     # draw_designs' near sample run here at the reference. At ±0.2 the three designs of seed 4 count 0, 1 and 2

@@ -258,6 +258,7 @@ def _calibrate_json(*extra):
     return doc
 
 
+@pytest.mark.slow
 def test_same_seed_gives_identical_json_in_two_processes(tmp_path):
     out, plot = tmp_path / "calibrated.yaml", tmp_path / "fit.png"
     a = _calibrate_json("--out", str(out), "--plot", str(plot))

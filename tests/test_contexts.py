@@ -144,6 +144,7 @@ def _played(cfg, action, seeds) -> list[int]:
     return out
 
 
+@pytest.mark.slow
 def test_the_stored_single_design_is_one_design_for_the_scene_and_covers_few_contexts():
     """No single design suits the maker's contexts: the stored best single design of a robust tune completes
     the row on at most 60 % of fresh contexts (here 200 of them, away from every seed the tune used)."""
@@ -159,6 +160,7 @@ def test_the_stored_single_design_is_one_design_for_the_scene_and_covers_few_con
     assert 0.1 <= share <= 0.6, share  # it works somewhere (a real design), and not on most contexts
 
 
+@pytest.mark.slow
 def test_evaluate_against_a_design_plays_it_on_the_same_episodes(tmp_path):
     cfg = load_config(CONTEXTS, {"scene.frames": 3})
     train(cfg, TrainSettings(algo="ppo", timesteps=16, seed=0, eval_every=0, progress=False,
@@ -183,6 +185,7 @@ def test_evaluate_against_a_design_plays_it_on_the_same_episodes(tmp_path):
         done.stderr
 
 
+@pytest.mark.slow
 def test_rl_vs_tuning_scores_every_method_on_the_same_holdout_contexts(tmp_path):
     """A tiny run of the benchmark: its prototype and single rows are those designs played on the hold-out seeds
     it names; a policy trained here and one that aero-env train wrote score alike."""

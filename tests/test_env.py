@@ -331,6 +331,7 @@ def test_render_after_a_run_shorter_than_one_pose_interval():
     assert len(frames) == 2 and frames[0].shape == (300, 720, 3)  # its first and last moments
 
 
+@pytest.mark.slow
 def test_human_mode_plays_the_run_in_a_window(headless):
     env = make(render_mode="human", **{"scene.frames": 2})
     env.reset(seed=0)

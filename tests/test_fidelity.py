@@ -197,6 +197,7 @@ def test_bench_accuracy_reports_every_fidelity_against_the_reference(capsys, tmp
             assert 0.0 < t.max() <= 0.010, (name, t)
 
 
+@pytest.mark.slow
 def test_bench_accuracy_near_a_design_and_on_converged_designs(capsys):
     # --near draws around the prototype's design; --check-reference adds the agreement over the designs
     # whose count the refined reference confirms. Both recomputed here through env.step.
@@ -281,6 +282,7 @@ def test_bench_effects_counts_the_outcomes_each_effect_changes(capsys):
             assert changed, "seed no longer draws a design the skewer's friction decides: pick another EFFECTS_SEED"
 
 
+@pytest.mark.slow
 def test_bench_throughput_times_every_fidelity_the_vector_env_and_two_workers(capsys):
     assert cli_main(["bench", "throughput", str(PAPER), "--set", "scene.frames=2", "--episodes", "4", "--batch", "4",
                      "--seed", str(BENCH_SEED), "--repeats", "1", "--json"]) == 0

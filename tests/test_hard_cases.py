@@ -35,6 +35,7 @@ from .invariants import OUTCOMES, check_run, finite_everywhere, observed_run, ob
 CORNERS = list(itertools.product((-1.0, 1.0), repeat=5))
 
 
+@pytest.mark.slow
 def test_every_corner_of_the_action_space_stays_sane():
     env = gym.make("aero_env/AerialAcrobat-v0", **{"scene.frames": 3})
     outcomes = set()
@@ -204,6 +205,7 @@ def test_the_default_time_step_has_a_margin(paper_cfg):
 
 
 # ---- a long row: no drift, no cost growing with the row ----
+@pytest.mark.slow
 def test_a_100_frame_row_does_not_drift_or_slow_down(paper_cfg, paper_run, monkeypatch):
     calls = {"n": 0}
     read_state = body_state.state  # what Python reads a body with

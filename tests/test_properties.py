@@ -7,6 +7,7 @@ import re
 
 import gymnasium as gym
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -21,6 +22,7 @@ ENV = gym.make("aero_env/AerialAcrobat-v0", **{"scene.frames": 2})
 IN_BOX = st.lists(st.floats(-1.0, 1.0, width=32), min_size=5, max_size=5)
 
 
+@pytest.mark.slow
 @settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(action=IN_BOX, seed=st.integers(0, 2**31 - 1))
 def test_random_in_box_designs_keep_the_invariants(action, seed):
@@ -113,6 +115,7 @@ def test_the_message_check_refuses_what_the_old_escape_accepted():
             raise AssertionError(f"{overrides} loaded")
 
 
+@pytest.mark.slow
 @settings(deadline=None)  # max_examples from the profile: 300 in CI, 3000 with --hypothesis-profile=deep
 @given(overrides=st.dictionaries(st.sampled_from(SCALAR_KEYS), BAD_VALUES, min_size=1, max_size=3))
 def test_random_config_values_load_or_get_a_config_error_naming_the_key(overrides):

@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from aero_env.config import Config
 from aero_env.models import reduced
@@ -60,6 +61,7 @@ def test_the_compiled_kernel_gives_the_plain_python_paths_bits():
     assert plain == compiled
 
 
+@pytest.mark.slow
 def test_a_batch_gives_the_same_bits_in_any_process_on_any_number_of_threads():
     one_thread = _sample(40, NUMBA_NUM_THREADS="1")
     here = _sample(40, NUMBA_NUM_THREADS="2")

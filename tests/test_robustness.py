@@ -70,6 +70,7 @@ def _cli_json(*extra: str, hash_seed: str) -> dict:
     return json.loads(out.stdout)
 
 
+@pytest.mark.slow
 def test_same_json_in_two_processes_and_with_two_workers():
     one = _cli_json("--workers", "1", hash_seed="1")
     two = _cli_json("--workers", "2", hash_seed="2")

@@ -44,6 +44,7 @@ def test_each_scenes_stored_solution_completes_its_row_at_mbd_and_at_reference(s
     assert simulate(load_config(solution, {"sim.fidelity": "reference"})).traversals == full
 
 
+@pytest.mark.slow
 def test_the_scenes_command_reports_the_suites_headroom(capsys):
     assert main(["scenes", "--dir", str(ROOT / "configs" / "scenes"), "--designs", "20", "--workers", "1",
                  "--no-reference", "--json"]) == 0

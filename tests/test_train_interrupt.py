@@ -150,6 +150,7 @@ def test_an_atomic_write_cut_half_way_keeps_the_old_file(tmp_path):
     assert path.read_bytes() == b"new and whole" and len(list(tmp_path.iterdir())) == 1
 
 
+@pytest.mark.slow
 def test_a_vector_env_stopped_between_a_steps_replies_still_closes():
     """Ctrl-C inside ``step_wait`` after the first worker's reply was read: SB3's close would wait for it again."""
     from agents.interrupts import children_ignore_sigint

@@ -53,6 +53,7 @@ def test_a_defeated_design_is_beaten_by_tuning(tmp_path):
     assert simulate(best).traversals == result.best_score["traversals"][0] == int(result.best_reward)
 
 
+@pytest.mark.slow
 def test_same_seed_same_study_different_seed_different_designs(short_row, tmp_path):
     import optuna
 
@@ -124,6 +125,7 @@ def _check_shared_study(result, url_or_storage, name, trials):
     assert result.trials == trials and result.trials_run == trials
 
 
+@pytest.mark.slow
 def test_two_workers_share_a_sqlite_study(short_row, tmp_path):
     url = f"sqlite:///{tmp_path / 'shared.db'}"
     result = tune(short_row, TuneSettings(sampler="random", trials=10, storage=url, study="pair", workers=2,
@@ -161,6 +163,7 @@ def test_a_missing_or_failing_postgresql_is_one_line(monkeypatch):
     assert line.startswith("PostgreSQL would not start: false UTF8 exited 1") and "\n" not in line, line
 
 
+@pytest.mark.slow
 def test_two_workers_share_a_postgresql_study(short_row, postgres_url):
     result = tune(short_row, TuneSettings(sampler="cmaes", trials=12, storage=postgres_url, study="pg-pair",
                                           workers=2, **QUIET))

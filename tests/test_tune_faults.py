@@ -31,6 +31,8 @@ from agents.study_storage import PROCESS_ATTR
 from .conftest import COARSE, PAPER
 from .postgres_server import PostgresMissing, postgres_cluster
 
+pytestmark = pytest.mark.slow  # processes, a real server, kills and restarts: each test takes seconds
+
 OVERRIDES = {"scene.frames": 3, **COARSE}
 LIMIT_S = 240  # safety net for a hung run; a healthy one takes seconds
 
