@@ -143,7 +143,7 @@ env:
 
 def test_design_problem_sections_load_and_round_trip(tmp_path):
     path = tmp_path / "problem.yaml"
-    path.write_text(PAPER.read_text() + DESIGN_PROBLEM_YAML)
+    path.write_text(PAPER.read_text().split("\ntunable:")[0] + DESIGN_PROBLEM_YAML)  # its own sections, not a second copy
     cfg = load_config(path)
     assert [t.name for t in cfg.tunable] == ["design.m3", "design.mu_s"]
     assert cfg.tunable[1].scale == "log" and cfg.tunable[1].linked == ("design.mu_k",)

@@ -307,6 +307,7 @@ def test_rgb_array_frames_have_a_stable_shape():
     start = env.render()
     env.step(env.unwrapped.action_for())
     after = env.render()
+    env.reset(seed=0)
     env.step(-np.ones(5, np.float32))
     failed = env.render()
     for frame in (start, after, failed):

@@ -38,8 +38,8 @@ def test_gif_plays_env_render_slowmo_times_slower_than_real_time(tmp_path, capsy
 def test_render_after_a_step_shows_the_whole_robot():
     # the case: a 3-frame row, where fitting the view to the width alone cut the torso off at the bottom
     env = gym.make("aero_env/AerialAcrobat-v0", render_mode="rgb_array", **{"scene.frames": 3})
-    env.reset(seed=0)
     for action in (env.unwrapped.action_for(), -np.ones(5, np.float32)):  # a completed row and a failure
+        env.reset(seed=0)
         env.step(action)
         run = env.unwrapped.last_run
         img = env.render()

@@ -32,7 +32,10 @@ allowed range and meaning; the schema table of docs/configuration.md is generate
 declarations (``aero-env schema``).
 ``load_config(path, overrides={"design.m2": 0.008})`` returns a validated, immutable
 :class:`Config`. Bad input raises :class:`ConfigError` naming the key, the value and
-the allowed range.
+the allowed range. A value in range that lies orders of magnitude from anything that can swing
+(``design.m3=7.2e-3g``: 7.2 mg for 7.2 g; ``design.rest_angle_deg=0.96``: radians) runs, with one
+:class:`UnitSlipWarning` line naming the likely slip (:mod:`.plausible`). A YAML mapping naming a key twice, in
+a file or a ``--set`` value, is refused (PyYAML would keep the last silently).
 
 The modules, each importing only those above it:
 
@@ -40,11 +43,13 @@ The modules, each importing only those above it:
 * ``sections``: the ``design``, ``scene``, ``sim`` and ``env`` declarations, fidelity presets and the design's
   cross-checks (``check_design``, on one design or on arrays of them).
 * ``design_problem``: the ``tunable``, ``context`` and ``tolerance`` entries and their checks.
+* ``plausible``: the band of values per kind of quantity past which a value reads as a unit slip, and its warning.
 * ``loading``: :class:`Config`, ``from_dict``, ``load_config``, overrides and the schema table.
 """
 
 from .design_problem import DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, ContextRange, Tolerance, Tunable
 from .loading import Config, from_dict, load_config, parse_override, read_yaml, schema_rows
+from .plausible import UnitSlipWarning, unit_slips, warn_unit_slips
 from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, Effects, EnvOptions, Scene, Sim, check_design,
                        pymunk_fidelities, real_field, real_keys, spec)
 from .validation import ConfigError, MissingExtra, check_value, check_values, did_you_mean
@@ -54,5 +59,5 @@ __all__ = [
     "Effects", "EnvOptions", "FIDELITY_PRESETS", "LIST_SECTIONS", "MissingExtra", "SECTIONS", "Scene", "Sim", "Tolerance", "Tunable",
     "check_design", "check_value", "check_values", "did_you_mean", "from_dict", "load_config", "parse_override",
     "pymunk_fidelities", "read_yaml", "real_field", "real_keys",
-    "schema_rows", "spec",
+    "schema_rows", "spec", "UnitSlipWarning", "unit_slips", "warn_unit_slips",
 ]

@@ -16,6 +16,7 @@ from .design_problem import (DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, C
                              build_list)
 from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, REMOVED_FIDELITIES, SECTIONS, Design, EnvOptions, Scene,
                        Sim, check_design, check_sim, real_field)
+from .plausible import warn_unit_slips
 from .validation import ConfigError, build_section, check_value, did_you_mean, range_text
 
 
@@ -193,9 +194,64 @@ def _deep_copy(x: Any) -> Any:
     return x
 
 
+class DuplicateKey(Exception):
+    """A YAML mapping names one key twice (:class:`UniqueKeyLoader`); the reader turns it into a ConfigError
+    naming the file or ``--set`` value. Not a ``yaml.YAMLError``, so that no "not YAML" fallback swallows it."""
+
+    def __init__(self, key: Any, mapping: str, first: yaml.Mark, again: yaml.Mark):
+        super().__init__(f"key {key!r} appears twice in {mapping!r}" if mapping else f"key {key!r} appears twice")
+        self.key, self.mapping, self.first, self.again = key, mapping, first, again
+
+
+class UniqueKeyLoader(yaml.SafeLoader):
+    """``yaml.SafeLoader`` that refuses a mapping naming one key twice with :class:`DuplicateKey`: YAML requires
+    keys to be unique, but PyYAML keeps the last value silently (``m3: 0.0072`` then ``m3: 0.009`` would run
+    with 0.009). Keys brought in by a merge (``<<: *base``) may still be overridden, as YAML's merge intends."""
+
+    def construct_document(self, node):
+        self.mapping_names = _mapping_names(node)
+        return super().construct_document(node)
+
+    def construct_mapping(self, node, deep=False):
+        if isinstance(node, yaml.MappingNode):
+            first: dict[Any, yaml.Mark] = {}
+            for key_node, _ in node.value:
+                if key_node.tag == "tag:yaml.org,2002:merge":
+                    continue
+                key = self.construct_object(key_node, deep=True)
+                try:
+                    seen = first.setdefault(key, key_node.start_mark)
+                except TypeError:  # an unhashable key: SafeLoader's own error names it
+                    continue
+                if seen is not key_node.start_mark:
+                    raise DuplicateKey(key, getattr(self, "mapping_names", {}).get(id(node), ""), seen,
+                                       key_node.start_mark)
+        return super().construct_mapping(node, deep=deep)
+
+
+def _mapping_names(root: yaml.Node) -> dict[int, str]:
+    """id(node) -> the dotted path of every mapping under ``root`` (``design``, ``scene.effects``, ``tunable[1]``;
+    "" for the document's own), for the duplicate key's message."""
+    names: dict[int, str] = {}
+    stack: list[tuple[yaml.Node, str]] = [(root, "")]
+    while stack:
+        node, path = stack.pop()
+        if id(node) in names:
+            continue  # an alias of a node already named (or a recursive one)
+        names[id(node)] = path
+        if isinstance(node, yaml.MappingNode):
+            for key_node, value_node in node.value:
+                name = key_node.value if isinstance(key_node, yaml.ScalarNode) else "?"
+                stack.append((value_node, f"{path}.{name}" if path else str(name)))
+        elif isinstance(node, yaml.SequenceNode):
+            stack.extend((item, f"{path}[{i}]") for i, item in enumerate(node.value))
+    return names
+
+
 def read_yaml(path: str | Path, what: str) -> Any:
     """The YAML document in ``path`` (None for an empty file); a one-line ConfigError naming ``what`` (e.g.
-    "config file") and the file when it is missing, a folder, unreadable or not YAML (with the line)."""
+    "config file") and the file when it is missing, a folder, unreadable or not YAML (with the line), or when a
+    mapping in it names a key twice (both lines)."""
     p = Path(path)
     if p.is_dir():
         raise ConfigError(f"{what} {str(p)!r}: is a folder; give a YAML file (e.g. configs/paper.yaml)")
@@ -208,7 +264,11 @@ def read_yaml(path: str | Path, what: str) -> Any:
     except OSError as exc:
         raise ConfigError(f"{what} {str(p)!r}: cannot be read ({exc.strerror or exc})") from None
     try:
-        return yaml.safe_load(text)
+        return yaml.load(text, Loader=UniqueKeyLoader)
+    except DuplicateKey as dup:
+        where = f"in {dup.mapping!r}" if dup.mapping else "at the top level"
+        raise ConfigError(f"{what} {str(p)!r}, line {dup.again.line + 1}: key {dup.key!r} appears twice {where} "
+                          f"(first at line {dup.first.line + 1}); a key takes one value") from None
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f", line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
@@ -222,9 +282,14 @@ def read_yaml(path: str | Path, what: str) -> Any:
 
 
 def load_config(path: str | Path | None = None, overrides: Mapping[str, Any] | None = None) -> Config:
-    """Load a YAML scene config (or the defaults when ``path`` is None) and apply overrides."""
+    """Load a YAML scene config (or the defaults when ``path`` is None) and apply overrides.
+
+    A value given here (in the file or an override) that lies orders of magnitude from anything that can swing
+    gets one :class:`~aero_env.config.UnitSlipWarning` naming the likely unit slip, and runs as given."""
     if path is None:
-        return from_dict({}, overrides)
+        cfg = from_dict({}, overrides)
+        warn_unit_slips(dict(overrides or {}))
+        return cfg
     data = read_yaml(path, "config file")
     if data is None:
         raise ConfigError(f"config file {str(path)!r}: empty; a config is a YAML mapping of sections "
@@ -232,19 +297,43 @@ def load_config(path: str | Path | None = None, overrides: Mapping[str, Any] | N
     if not isinstance(data, Mapping):
         raise ConfigError(f"config file {str(path)!r}: must be a YAML mapping of sections "
                           f"({', '.join([*SECTIONS, *LIST_SECTIONS])}), got a {type(data).__name__}")
-    return from_dict(data, overrides)
+    cfg = from_dict(data, overrides)
+    warn_unit_slips({**_given_values(data), **(overrides or {})})
+    return cfg
+
+
+def _given_values(data: Mapping[str, Any]) -> dict[str, Any]:
+    """The ``design`` and ``scene`` values a config file gives, by dotted key, as written."""
+    given = {}
+    for section in ("design", "scene"):
+        values = data.get(section)
+        if isinstance(values, Mapping):
+            given.update({f"{section}.{name}": value for name, value in values.items()})
+    return given
 
 
 def parse_override(text: str) -> tuple[str, Any]:
-    """Parse a CLI ``KEY=VALUE`` override; the value is read as YAML (numbers, true/false, words)."""
+    """Parse a CLI ``KEY=VALUE`` override; the value is read as YAML (numbers, true/false, words). A mapping in it
+    that names a key twice (``scene.effects={drag: true, drag: false}``) is refused."""
     if "=" not in text:
         raise ConfigError(f"--set {text!r}: expected KEY=VALUE, e.g. design.m2=0.008")
     key, raw = text.split("=", 1)
     try:
-        value = yaml.safe_load(raw)
+        value = yaml.load(raw, Loader=UniqueKeyLoader)
+    except DuplicateKey as dup:
+        inner = dup.mapping if dup.mapping.startswith("[") or not dup.mapping else f".{dup.mapping}"
+        raise ConfigError(f"--set {text!r}: key {dup.key!r} appears twice in {key.strip() + inner!r} (at "
+                          f"{_in_value(dup.first, dup.again)} of the value); a key takes one value") from None
     except yaml.YAMLError:
         value = raw
     return key.strip(), value
+
+
+def _in_value(first: yaml.Mark, again: yaml.Mark) -> str:
+    """Where two marks are in a ``--set`` value: "columns 2 and 14", with lines where the value has several."""
+    if first.line == again.line == 0:
+        return f"columns {first.column + 1} and {again.column + 1}"
+    return f"line {first.line + 1} column {first.column + 1} and line {again.line + 1} column {again.column + 1}"
 
 
 def schema_rows() -> list[tuple[str, str, str, str, str]]:

@@ -13,7 +13,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from ..config import Config, ConfigError, load_config, pymunk_fidelities
+from ..config import Config, ConfigError, load_config, pymunk_fidelities, warn_unit_slips
 from ..design_space import DesignSpace, Draw
 from ..physics import SimResult, World
 from ..reward import reward  # the one reward function: the tuner's screen scores with it too
@@ -64,6 +64,16 @@ def episode_info(run: dict, episode: Episode, draw: Draw) -> dict:
     info = {k: v for k, v in run.items() if k != "wall_time"}
     info.update(design=episode.design, context=dict(draw.context), as_built=episode.as_built)
     return info
+
+
+# What a step after terminated=True (and before reset) warns, once until the next reset. Gymnasium's own envs
+# (CartPole) warn so through gymnasium.logger and go on; its OrderEnforcing wrapper refuses only a step before the
+# first reset, and its env checker none after the end. Vector envs and SB3 reset after every episode themselves,
+# and a one-step bandit is often stepped on in one scene on purpose (benchmarks/env_step.py), so it warns, not
+# refuses.
+STEP_AFTER_END = ("step() after the episode ended (terminated=True): call reset() first. This step scored the "
+                  "action as a new episode in the last reset's scene (its context and as-built draw); Gymnasium "
+                  "leaves a step after the end undefined")
 
 
 def _no_display() -> bool:
@@ -148,6 +158,16 @@ class AerialAcrobatEnv(gym.Env):
     (the tunable and linked values chosen, SI), ``context`` (SI) and ``as_built`` (the fields the
     tolerances changed, as simulated, SI).
 
+    ``reset()`` starts the next episode. A ``step()`` after ``terminated=True`` without a ``reset()`` warns once
+    (until the next reset) through ``gymnasium.logger``, as Gymnasium's own environments do (CartPole: "any
+    further steps are undefined behavior"), and scores the action as a new episode in the scene of the last
+    reset (the same context and as-built draw, not a fresh one):
+
+    | Call after ``terminated=True``  | What happens                                                          |
+    |---------------------------------|-----------------------------------------------------------------------|
+    | ``reset()``, then ``step(a)``   | a new episode in a newly drawn scene (what vector envs and SB3 do)     |
+    | ``step(a)`` without ``reset()`` | one ``UserWarning`` "step() after the episode ended (terminated=True): call reset() first...", then ``a`` scored in the last reset's scene |
+
     ``gym.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point")`` steps N designs in one call
     (:class:`aero_env.envs.AerialAcrobatVectorEnv`, SAME_STEP autoreset), equal to N of these envs.
 
@@ -160,7 +180,7 @@ class AerialAcrobatEnv(gym.Env):
     | Argument      | Default | Meaning                                                             |
     |---------------|---------|---------------------------------------------------------------------|
     | ``config``    | None    | a YAML path or a :class:`Config`; None: the prototype (the defaults) |
-    | ``overrides`` | None    | dotted-key overrides, as ``--set`` (``{"scene.rise": 0.004}``)      |
+    | ``overrides`` | None    | dotted-key overrides, as ``--set`` (``{"scene.rise": 0.004}``); a value orders of magnitude from anything that can swing warns once (``UnitSlipWarning``), as ``load_config`` does |
     | ``render_mode`` | None  | ``human`` (pygame window), ``rgb_array``, ``rgb_array_list``        |
     | ``**kwargs``  |         | more dotted-key overrides: ``gym.make(id, **{"design.m2": 0.008})`` |
 
@@ -199,6 +219,7 @@ class AerialAcrobatEnv(gym.Env):
         extra = {**(overrides or {}), **kwargs}
         if isinstance(config, Config):
             self.config = config.replace(extra) if extra else config
+            warn_unit_slips(extra)  # as load_config does for a file's values and its overrides
         else:
             self.config = load_config(config, extra)
         self.space = DesignSpace(self.config)
@@ -214,6 +235,8 @@ class AerialAcrobatEnv(gym.Env):
         self.observation_space = spaces.Box(-1.0, 1.0, (self.space.obs_dim,), np.float32)
         self._draw: Draw = self.space.nominal_draw()
         self.last_run: SimResult | None = None  # the last step's run (public: see the class docstring)
+        self._ended = False  # a step has returned terminated=True since the last reset
+        self._warned_after_end = False  # and a step after it has warned (once until the next reset)
         self._window = None
         self._clock = None
 
@@ -235,11 +258,15 @@ class AerialAcrobatEnv(gym.Env):
         super().reset(seed=seed)
         self._draw = self.space.draw(self.np_random)
         self.last_run = None
+        self._ended = self._warned_after_end = False
         if self.render_mode == "human":
             self._show([self._start_frame()])
         return self.space.observation(self._draw), reset_info(self._draw)
 
     def step(self, action):
+        if self._ended and not self._warned_after_end:
+            self._warned_after_end = True
+            gym.logger.warn(STEP_AFTER_END)
         episode = plan_episode(self.space, self._draw, action, self._clip)
         cfg = episode.config
         result = simulate(cfg, trace=cfg.env.record_trace,
@@ -248,6 +275,7 @@ class AerialAcrobatEnv(gym.Env):
         info = episode_info(result.to_json_dict(), episode, self._draw)
         if self.render_mode == "human":
             self.render()
+        self._ended = True
         return self.space.observation(self._draw), reward(result, cfg), True, False, info
 
     # ---- rendering ----

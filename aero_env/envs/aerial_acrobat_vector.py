@@ -18,7 +18,7 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
-from ..config import Config, ConfigError, load_config
+from ..config import Config, ConfigError, load_config, warn_unit_slips
 from ..design_space import DesignSpace, Draw
 from ..reward import reward
 from ..simulation import simulate
@@ -130,6 +130,7 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         extra = {**(overrides or {}), **kwargs}
         if isinstance(config, Config):
             self.config = config.replace(extra) if extra else config
+            warn_unit_slips(extra)  # as load_config does for a file's values and its overrides
         else:
             self.config = load_config(config, extra)
         if self.config.env.record_trace:

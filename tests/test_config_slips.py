@@ -1,0 +1,168 @@
+"""Two config slips a new user hit (issue 36 §7): a value 1000x too small (a unit slip) runs, with one warning
+line naming the likely slip; a YAML mapping naming a key twice, in a file or a ``--set`` value, is refused."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import warnings
+
+import pytest
+
+from aero_env.cli import main
+from aero_env.config import (LIST_SECTIONS, SECTIONS, ConfigError, UnitSlipWarning, load_config, parse_override,
+                             read_yaml)
+from aero_env.envs import AerialAcrobatEnv
+
+from .conftest import PAPER, ROOT
+
+M3_SLIP = ("design.m3 = 7.2e-06 kg (0.0072 g): about 1000x below the prototype's 7.2 g, beyond the 30x either way "
+           "of any mass that can swing (run as given); did you mean 7.2 g?")
+ANGLE_SLIP = ("design.rest_angle_deg = 0.96: an angle in degrees (the prototype's is 55 deg), run as given; 0.96 rad "
+              "is 55 deg: did you mean 0.96rad (or 55)?")
+CHEAP = {"scene.frames": 2}
+
+
+def slip_warnings(caught) -> list[str]:
+    return [str(w.message) for w in caught if issubclass(w.category, UnitSlipWarning)]
+
+
+# ---- 1. a value orders of magnitude from anything that can swing: one warning, and it runs as given ----
+@pytest.mark.parametrize("key, raw, si, message", [
+    ("design.m3", "7.2e-3g", 7.2e-6, M3_SLIP),  # 7.2 mg written for 7.2 g (issue 36)
+    ("design.m3", 7.2e-6, 7.2e-6, M3_SLIP),
+    ("design.rest_angle_deg", 0.96, 0.96, ANGLE_SLIP),  # 55 deg given in radians (issue 36)
+    ("design.La", "0.0483 mm", 4.83e-5, "design.La = 4.83e-05 m (0.0483 mm): about 1000x below the prototype's "
+                                        "48.3 mm, beyond the 30x either way of any length that can swing (run as "
+                                        "given); did you mean 48.3 mm?"),
+])
+def test_a_unit_slip_warns_once_naming_key_value_and_slip_and_still_runs(key, raw, si, message):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        cfg = load_config(PAPER, {key: raw})
+    assert slip_warnings(caught) == [message]
+    assert cfg.value(key) == pytest.approx(si, rel=1e-12)  # not refused: it may be a deliberate experiment
+
+
+def test_a_slip_in_a_config_file_warns_too(tmp_path):
+    text = PAPER.read_text().replace("  m3: 0.00720", "  m3: 7.2e-3g")
+    assert text != PAPER.read_text()
+    (tmp_path / "slip.yaml").write_text(text)
+    with pytest.warns(UnitSlipWarning) as caught:
+        load_config(tmp_path / "slip.yaml")
+    assert [str(w.message) for w in caught] == [M3_SLIP]
+
+
+@pytest.mark.parametrize("overrides", [
+    {"design.rest_angle_deg": "0.96 rad"},  # a unit written says what was meant
+    {"design.rest_angle_deg": "3 deg", "design.stop_angle_deg": 180},
+    {"design.m3": 0.0072 / 20, "design.La": 0.0483 * 20},  # far, but within what can swing
+    {"design.pivot_friction": 0.0, "design.coin_mass": 0.0},  # 0 switches a part off
+    {"design.h": 1e-6, "scene.rise": -1e-5, "design.dT": 1e-9},  # signed offsets: any small value is a design
+])
+def test_values_that_can_swing_or_say_their_unit_do_not_warn(overrides):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnitSlipWarning)
+        load_config(PAPER, overrides)
+
+
+def stored_configs():
+    paths = sorted((ROOT / "configs").rglob("*.yaml"))
+    return [p for p in paths if set(read_yaml(p, "config file")) <= set(SECTIONS) | set(LIST_SECTIONS)]
+
+
+def test_every_stored_config_is_a_config_we_check():
+    names = {p.relative_to(ROOT).as_posix() for p in stored_configs()}
+    assert {"configs/paper.yaml", "configs/small_frames.yaml", "configs/scenes/light_frames.yaml",
+            "configs/scenes/solutions/steep.yaml"} <= names and len(names) >= 19
+
+
+@pytest.mark.parametrize("path", stored_configs(), ids=lambda p: p.relative_to(ROOT).as_posix())
+def test_no_stored_config_warns(path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnitSlipWarning)
+        load_config(path)
+
+
+def test_the_warning_comes_once_per_value_not_per_episode_or_trial():
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")  # no deduplication by Python: every warn() call is recorded
+        for env in (AerialAcrobatEnv(PAPER, {"design.rest_angle_deg": 0.96, **CHEAP}),
+                    AerialAcrobatEnv(load_config(PAPER), {"design.rest_angle_deg": 0.96, **CHEAP})):
+            for seed in (0, 1):
+                env.reset(seed=seed)
+                _, _, _, _, info = env.step(env.action_for())
+            assert info["outcome"] == "fell_short"  # the slipped value ran, in every episode
+        # a tuner's trials and screens build on the loaded config (with_values, replace): not warned again
+        cfg = load_config(PAPER, {"design.rest_angle_deg": 0.96})
+        for la in (0.045, 0.05, 0.055):
+            cfg.with_values({"design.La": la}).replace({"sim.fidelity": "reduced"})
+    assert slip_warnings(caught) == [ANGLE_SLIP] * 3  # one per env made and per load, none per episode or trial
+
+
+def test_the_cli_prints_each_warning_as_one_line_and_runs():
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONWARNINGS"}
+    done = subprocess.run([sys.executable, "-m", "aero_env.cli", "simulate", str(PAPER), "--set", "scene.frames=2",
+                           "--set", "design.m3=7.2e-3g", "--set", "design.rest_angle_deg=0.96"],
+                          capture_output=True, text=True, env=env)
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.splitlines() == [f"aero-env: warning: {M3_SLIP}", f"aero-env: warning: {ANGLE_SLIP}"]
+    assert "outcome:" in done.stdout
+
+
+# ---- 2. a YAML mapping naming a key twice is refused, with both lines ----
+def write(tmp_path, text: str):
+    path = tmp_path / "x.yaml"
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("text, message", [
+    ("design:\n  La: 0.0483\n  m3: 0.0072\n  Lb: 0.0517\n  m3: 0.009\n",
+     "line 5: key 'm3' appears twice in 'design' (first at line 3)"),
+    ("design:\n  m3: 0.0072\nscene:\n  frames: 3\ndesign:\n  m2: 0.008\n",
+     "line 5: key 'design' appears twice at the top level (first at line 1)"),
+    ("scene:\n  effects:\n    drag: true\n    friction: static\n    drag: false\n",
+     "line 5: key 'drag' appears twice in 'scene.effects' (first at line 3)"),
+    ("tunable:\n  - name: design.m3\n    low: 0.5\n    high: 1.5\n  - name: design.La\n    low: 0.8\n    high: 1.2\n"
+     "    low: 0.9\n", "line 8: key 'low' appears twice in 'tunable[1]' (first at line 6)"),
+    ("design: {m3: 0.0072, m3: 0.009}\n", "line 1: key 'm3' appears twice in 'design' (first at line 1)"),
+])
+def test_a_duplicated_key_in_a_file_is_refused_with_both_lines(tmp_path, text, message):
+    path = write(tmp_path, text)
+    with pytest.raises(ConfigError) as exc:
+        load_config(path)
+    assert str(exc.value) == f"config file {str(path)!r}, {message}; a key takes one value"
+
+
+def test_the_cli_refuses_a_duplicated_key_in_one_line(tmp_path, capsys):
+    path = write(tmp_path, "design:\n  m3: 0.0072\n  m3: 0.009\n")
+    assert main(["simulate", str(path)]) == 2
+    assert capsys.readouterr().err == (f"aero-env: file error: config file {str(path)!r}, line 3: key 'm3' appears "
+                                       f"twice in 'design' (first at line 2); a key takes one value\n")
+
+
+def test_a_merge_may_still_override_a_merged_key(tmp_path):
+    # YAML's merge key brings in a mapping whose keys the mapping itself may override: not a duplicate
+    merged = write(tmp_path, "x: &x {a: 1, b: 2}\ny:\n  <<: *x\n  b: 3\nz: *x\n")
+    assert read_yaml(merged, "file") == {"x": {"a": 1, "b": 2}, "y": {"a": 1, "b": 3}, "z": {"a": 1, "b": 2}}
+
+
+@pytest.mark.parametrize("text, message", [
+    ("scene.effects={drag: true, drag: false}", "key 'drag' appears twice in 'scene.effects' (at columns 2 and 14 "
+                                                "of the value)"),
+    ("tunable=[{name: design.m3, low: 0.5, high: 1.5}, {name: design.La, low: 0.8, low: 0.9, high: 1.2}]",
+     "key 'low' appears twice in 'tunable[1]' (at columns 60 and 70 of the value)"),
+])
+def test_a_duplicated_key_in_a_set_value_is_refused(text, message):
+    with pytest.raises(ConfigError) as exc:
+        parse_override(text)
+    assert str(exc.value) == f"--set {text!r}: {message}; a key takes one value"
+
+
+def test_set_values_without_duplicates_read_as_before():
+    assert parse_override("scene.effects={drag: true, friction: static}") == (
+        "scene.effects", {"drag": True, "friction": "static"})
+    assert parse_override("design.m3=7.2e-3g") == ("design.m3", "7.2e-3g")
+    assert parse_override("design.m3={oops") == ("design.m3", "{oops")  # not YAML: the text itself, as before
