@@ -77,7 +77,6 @@ HP_SPECS: dict[str, dict[str, tuple]] = {
 RUN_FILES = ("model.zip", "config.yaml", "run.json", "evaluations.npz", "learning_curve.png", "replay_buffer.pkl")
 EVAL_EPISODES = 10         # episodes per periodic evaluation
 EVAL_SEED_OFFSET = 10_000  # evaluation seeds start here, away from the training envs' seeds
-STEP_REPLY_S = 30.0        # how long a stopped run waits for a worker's step still under way (one episode)
 
 
 @dataclass(frozen=True)
@@ -283,10 +282,11 @@ def _close(venv) -> None:
     workers = getattr(venv, "unwrapped", venv)  # a VecMonitor's innermost vector env
     if getattr(workers, "waiting", False):
         # Ctrl-C between a step's send and its last reply: SubprocVecEnv.close would wait again for every reply,
-        # those already read too, forever (seen: a run hung at its save). Read the replies still due, then close.
+        # those already read too, forever (seen: a run hung at its save). A worker still stepping replies, then
+        # reads the close that follows, so nothing needs waiting for: read what has come, then close.
         for remote in workers.remotes:
             with contextlib.suppress(EOFError, OSError):
-                if remote.poll(STEP_REPLY_S):
+                if remote.poll(0):
                     remote.recv()
         workers.waiting = False
     try:
