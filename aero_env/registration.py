@@ -9,6 +9,12 @@ ENTRY_POINT = "aero_env.envs.aerial_acrobat:AerialAcrobatEnv"
 # call (aero_env/envs/aerial_acrobat_vector.py). make_vec with no vectorization_mode picks it too.
 VECTOR_ENTRY_POINT = "aero_env.envs.aerial_acrobat_vector:AerialAcrobatVectorEnv"
 
+# Every episode is one step (a design scored on its row), so each id is registered with max_episode_steps=1. gym.make
+# then wraps the env in Gymnasium's TimeLimit, which sets truncated=True on that step beside terminated=True (Gymnasium
+# 1.4, wrappers/common.py: TimeLimit.step truncates once elapsed >= max_episode_steps, whatever terminated says); the
+# env's own flag stays False. Why that is kept: the "Episode End" section of aero_env/envs/aerial_acrobat.py.
+MAX_EPISODE_STEPS = 1
+
 ENVIRONMENTS: dict[str, dict] = {
     # The prototype's scene: Table 1 masses and lengths on the 8-frame row of configs/paper.yaml.
     "aero_env/AerialAcrobat-v0": {},
@@ -44,8 +50,23 @@ ENVIRONMENTS: dict[str, dict] = {
 }
 
 
+# Each id's reward_threshold: the whole row of its *registered* scene, frames - 1 traversals (the prototype's 8 frames:
+# 7; the maker's contexts' 5 frames: 4). A completed run scores exactly frames - 1 and every other run less, with or
+# without shaping: the shaping's credit goes only to a failed flight, which has at most frames - 2 traversals, and
+# its weight is at most 0.99 (aero_env/reward.py), so a mean reward >= the threshold means every episode completed
+# the row. A spec's threshold is fixed per id: gym.make(id, **{"scene.frames": n}) or another config= changes the
+# row, not the threshold (for that scene the whole row is n - 1). tests/test_env.py checks these numbers
+# against each id's default scene.
+REWARD_THRESHOLDS: dict[str, float] = {
+    "aero_env/AerialAcrobat-v0": 7.0,
+    "aero_env/AerialAcrobatVaried-v0": 7.0,
+    "aero_env/AerialAcrobatContexts-v0": 4.0,
+}
+
+
 def register_environments() -> None:
     for env_id, kwargs in ENVIRONMENTS.items():
         if env_id not in gym.registry:
             gym.register(id=env_id, entry_point=ENTRY_POINT, vector_entry_point=VECTOR_ENTRY_POINT,
+                         max_episode_steps=MAX_EPISODE_STEPS, reward_threshold=REWARD_THRESHOLDS[env_id],
                          kwargs=dict(kwargs))

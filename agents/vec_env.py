@@ -59,8 +59,8 @@ class GymnasiumVecEnv(VecEnv):
         mode = envs.metadata.get("autoreset_mode")
         if mode != AutoresetMode.SAME_STEP:
             raise ConfigError(f"autoreset_mode = {mode!r}: GymnasiumVecEnv needs AutoresetMode.SAME_STEP (SB3 resets a "
-                              f"finished env within its step), e.g. vectorization_mode='vector_entry_point' or "
-                              f"vector_kwargs={{'autoreset_mode': AutoresetMode.SAME_STEP}}")
+                              f"finished env within its step), e.g. vectorization_mode='vector_entry_point' with its "
+                              f"default autoreset_mode, or vector_kwargs={{'autoreset_mode': AutoresetMode.SAME_STEP}}")
         self.envs = envs  # before VecEnv.__init__, which reads render_mode through get_attr
         super().__init__(envs.num_envs, envs.single_observation_space, envs.single_action_space)
         self._actions: np.ndarray | None = None

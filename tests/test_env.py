@@ -47,7 +47,7 @@ def test_prototype_action_scores_the_full_row(prototype_step):
     env, (obs, reward, terminated, truncated, info) = prototype_step
     frames = env.unwrapped.config.scene.frames
     assert reward == frames - 1 == 7 and info["outcome"] == "completed"
-    assert terminated and not truncated
+    assert terminated and truncated  # truncated: gym.make's TimeLimit of max_episode_steps=1 (the spec's tests below)
     # the action maps back to the prototype's design (float32 action: within 1e-7 relative)
     for key, v in info["design"].items():
         assert v == pytest.approx(load_config(PAPER).value(key), rel=1e-7)
@@ -364,6 +364,78 @@ def test_every_registered_variant_makes_resets_and_steps(env_id):
                                                                        "missed_catch", "no_detach")
     if "Varied" in env_id:  # the scene changes from reset to reset
         assert len({o.tobytes() for o in observations}) == 4
+
+
+# ---- the spec (issue 35 §5): one-step episodes, and the whole row as the reward threshold ----
+REDUCED_SHORT = {"sim.fidelity": "reduced", "scene.frames": 3}
+
+
+@pytest.mark.parametrize("env_id", sorted(aero_env.registration.ENVIRONMENTS))
+def test_the_spec_says_one_step_episodes_and_the_whole_row_of_its_own_scene(env_id):
+    spec = gym.spec(env_id)
+    env = gym.make(env_id)
+    assert spec.max_episode_steps == 1 and env.spec.max_episode_steps == 1
+    assert spec.reward_threshold == env.unwrapped.config.scene.frames - 1  # 7 on the prototype's row, 4 on the maker's
+    env.close()
+
+
+def test_under_gym_make_the_one_step_is_truncated_as_time_limit_does_and_read_as_terminated():
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from aero_env.envs import AerialAcrobatVectorEnv
+
+    made = make(**REDUCED_SHORT)
+    action = made.unwrapped.action_for()
+    made.reset(seed=0)
+    assert made.step(action)[2:4] == (True, True)  # TimeLimit(env, 1): elapsed 1 >= 1 truncates, whatever terminated
+    made.unwrapped.reset(seed=0)
+    assert made.unwrapped.step(action)[2:4] == (True, False)  # the env itself never truncates
+    unlimited = make(max_episode_steps=-1, **REDUCED_SHORT)  # no TimeLimit at all
+    unlimited.reset(seed=0)
+    assert unlimited.step(action)[2:4] == (True, False) and unlimited.spec.max_episode_steps is None
+    # Gymnasium's checker takes a truncation at step 1 for a bug: the made env fails it, the raw env passes
+    from gymnasium.utils.env_checker import check_env
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # "the environment is different from the unwrapped version"
+        with pytest.raises(AssertionError, match="truncates after 1 step"):
+            check_env(make(**REDUCED_SHORT), skip_render_check=True)
+        check_env(made.unwrapped, skip_render_check=True)
+    # SB3 reads the step as terminal, not as a time-out to bootstrap from
+    sb3 = DummyVecEnv([lambda: make(**REDUCED_SHORT)])
+    sb3.reset()
+    _, _, dones, infos = sb3.step(action[None])
+    sb3.close()
+    assert dones.all() and infos[0]["TimeLimit.truncated"] is False
+    # make_vec passes the spec's max_episode_steps to the vector entry point: the flags of SyncVectorEnv's made envs
+    native = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", **REDUCED_SHORT)
+    sync = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="sync",
+                        vector_kwargs={"autoreset_mode": gym.vector.AutoresetMode.SAME_STEP}, **REDUCED_SHORT)
+    built = AerialAcrobatVectorEnv(2, overrides=REDUCED_SHORT)  # no max_episode_steps: as env.unwrapped
+    flags = []
+    for envs in (native, sync, built):
+        envs.reset(seed=0)
+        flags.append([f.tolist() for f in envs.step(np.tile(action, (2, 1)))[2:4]])
+        envs.close()
+    assert flags[0] == flags[1] == [[True, True], [True, True]] and flags[2] == [[True, True], [False, False]]
+
+
+def test_only_a_completed_row_reaches_the_reward_threshold_shaped_or_not():
+    # the spec's threshold, frames - 1 of the registered scene, read as "every episode completed the row": with the
+    # largest shaping weight a failed run of frames - 2 traversals earns up to frames - 2 + 0.99, never frames - 1
+    threshold = gym.spec(ENV_ID).reward_threshold
+    over = {"sim.fidelity": "reduced", "env.reward_shaping": 0.99}
+    envs = gym.make_vec(ENV_ID, num_envs=512, vectorization_mode="vector_entry_point", **over)
+    envs.reset(seed=0)
+    centre = AerialAcrobatEnv(overrides=over).action_for()
+    actions = np.clip(centre + np.random.default_rng(0).normal(0.0, 0.15, (512, 5)), -1.0, 1.0).astype(np.float32)
+    _, rewards, *_, info = envs.step(actions)
+    envs.close()
+    completed = info["final_info"]["outcome"] == "completed"
+    assert np.array_equal(rewards >= threshold, completed)
+    assert np.all(rewards[completed] == threshold)  # the whole row scores exactly frames - 1
+    near = rewards[~completed]
+    assert completed.any() and near.max() > threshold - 1  # a shaped near miss one traversal short: the check can fail
 
 
 def test_the_design_problem_never_blocks_a_plain_simulation(paper_cfg):

@@ -149,14 +149,34 @@ class AerialAcrobatEnv(gym.Env):
 
     ## Episode End
 
-    Every step terminates the episode (``terminated=True``, never truncated): the run ends at
+    Every step terminates the episode (``terminated=True``): the run ends at
     the first failed transfer or once the last frame has caught the robot and carried it through its
     lowest point, and always within
-    ``sim.t_max``. ``info`` holds the run as ``aero-env simulate --json`` prints it (``outcome``,
+    ``sim.t_max``. The env itself never truncates; ``truncated`` is Gymnasium's ``TimeLimit``'s (below).
+    ``info`` holds the run as ``aero-env simulate --json`` prints it (``outcome``,
     ``reason``, ``traversals``, ``frames``, ``swings``, ``energy``, ``sim_time``,
     ``miss_distance``, ``health``) except ``wall_time``, which would break determinism, plus ``design``
     (the tunable and linked values chosen, SI), ``context`` (SI) and ``as_built`` (the fields the
     tolerances changed, as simulated, SI).
+
+    **``max_episode_steps=1`` and ``truncated``.** Every id is registered with
+    ``max_episode_steps=1`` (the episode's length), so ``gym.make`` wraps the env in ``TimeLimit(env, 1)``.
+    In Gymnasium 1.4 ``TimeLimit.step`` sets ``truncated = True`` once its elapsed steps reach the
+    limit, whatever ``terminated`` says (``gymnasium/wrappers/common.py``), so a made env's step returns
+    ``terminated=True, truncated=True``, as CartPole-v1 does when its pole falls at step 500. That is
+    kept: ``terminated`` is the true end, and the consumers here give it precedence: SB3's
+    ``DummyVecEnv``/``SubprocVecEnv`` set ``info["TimeLimit.truncated"] = truncated and not terminated``
+    (False here: no bootstrapping on a terminal step), as ``agents.vec_env`` does; Gymnasium's vector
+    envs and ``RecordEpisodeStatistics`` end the episode on either flag; RL Zoo's own patched
+    ``TimeLimit`` leaves ``truncated`` False on a terminated step. ``env.unwrapped.step`` returns
+    ``truncated=False``, and so does ``gym.make(id, max_episode_steps=-1)`` (no ``TimeLimit``). One
+    consumer does object: Gymnasium's ``check_env`` given the made env stops at "Environment truncates
+    after 1 step, something has gone very wrong" (``utils/env_checker.py``, ``check_step_determinism``);
+    give it ``env.unwrapped``, as its own warning about wrapped envs recommends. The spec's
+    ``reward_threshold`` is the whole row of the id's own scene (``frames - 1``: 7 on the prototype's
+    8 frames, 4 on ``AerialAcrobatContexts-v0``'s 5), which only a completed run reaches, shaped or not;
+    it is fixed per id, so with ``scene.frames`` (or ``config``) overridden the whole row is that
+    scene's ``frames - 1``, not the threshold.
 
     ``reset()`` starts the next episode. A ``step()`` after ``terminated=True`` without a ``reset()`` warns once
     (until the next reset) through ``gymnasium.logger``, as Gymnasium's own environments do (CartPole: "any
@@ -169,7 +189,8 @@ class AerialAcrobatEnv(gym.Env):
     | ``step(a)`` without ``reset()`` | one ``UserWarning`` "step() after the episode ended (terminated=True): call reset() first...", then ``a`` scored in the last reset's scene |
 
     ``gym.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point")`` steps N designs in one call
-    (:class:`aero_env.envs.AerialAcrobatVectorEnv`, SAME_STEP autoreset), equal to N of these envs.
+    (:class:`aero_env.envs.AerialAcrobatVectorEnv`, SAME_STEP autoreset unless ``autoreset_mode=`` says
+    otherwise), equal to N of these envs.
 
     ``env.unwrapped.last_run`` is the last step's :class:`aero_env.results.SimResult` (None after
     a reset): its ``swings`` (per-frame catch, detach and flight), and with
@@ -208,6 +229,29 @@ class AerialAcrobatEnv(gym.Env):
     nor ``WAYLAND_DISPLAY``, and no ``SDL_VIDEODRIVER`` chosen) it draws into SDL's ``dummy``
     driver with one warning, instead of SDL's own errors (``XDG_RUNTIME_DIR is invalid``):
     Gymnasium's ``check_env`` opens every declared mode, ``human`` included.
+
+    ## Version History
+
+    The ids have stayed ``-v0`` through these changes, so a result is comparable only with one of
+    the same code (``git log``):
+
+    * v0, first: the registered design bandit ``AerialAcrobat-v0`` and ``AerialAcrobatVaried-v0``
+      (context and tolerances drawn at reset); one step builds the design and runs the whole row in
+      the pymunk world; reward: the consecutive traversals.
+    * v0: ``sim.fidelity`` (a ladder of pymunk settings, and ``reduced``, the reduced model: no
+      pymunk, no rendering); ``mbd-fast`` later left the ladder.
+    * v0: ``env.reward_shaping`` credits only a failed transfer that flew (the hook let go), through
+      the one reward function the tuner's screen uses too.
+    * v0: tunable ranges ``relative_to`` a field, so they follow the scene; ``env.unwrapped.last_run``.
+    * v0: the robot built to the paper's Table 1 (its unknowns refitted), and a catch counts as a
+      traversal only once its frame has carried the robot through its lowest point: rewards changed.
+    * v0: ``AerialAcrobatContexts-v0`` (the maker's contexts on a 5-frame row); a context entry can
+      carry ``linked`` fields (a drawn ``design.mu_s`` moves ``design.mu_k``); the native vector env
+      (``vector_entry_point``).
+    * v0: a ``step()`` after ``terminated=True`` warns once; a value 1000x from anything that swings
+      warns with its likely unit.
+    * v0: ``max_episode_steps=1`` and ``reward_threshold`` in the spec (truncated True under
+      ``gym.make``, above); the vector env's ``autoreset_mode``.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": ANIMATION_FPS}

@@ -23,7 +23,7 @@ from ..design_space import DesignSpace, Draw
 from ..reward import reward
 from ..simulation import simulate
 from .aerial_acrobat import Episode, episode_info, plan_episode, reset_info
-from .vector_info import batch_infos, batch_runs, stack_columns, stack_infos
+from .vector_info import batch_infos, batch_runs, scatter_infos, stack_columns, stack_infos
 
 __all__ = ["AerialAcrobatVectorEnv", "MAX_NUM_ENVS", "POOL_START_METHOD"]
 
@@ -60,27 +60,55 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
                         **{"sim.fidelity": "reduced"})
     ```
 
-    ## Autoreset: SAME_STEP
+    ## Autoreset: SAME_STEP by default
 
-    Every episode is one step (a contextual bandit), so every step ends every sub-env's episode
-    (``terminated`` all True, ``truncated`` all False) and the same step resets it:
-    ``metadata["autoreset_mode"]`` is ``AutoresetMode.SAME_STEP``, and every step scores the
-    designs it is given (under NEXT_STEP every other step would be a reset that ignores its actions).
+    Every episode is one step (a contextual bandit), so every step ends the episode of every
+    sub-env it runs. ``autoreset_mode`` (an :class:`AutoresetMode`, its value ``"SameStep"`` or its
+    name ``"SAME_STEP"``) says what happens next, as in ``SyncVectorEnv`` with that mode, and
+    ``metadata["autoreset_mode"]`` holds it per instance (Gymnasium's vector wrappers read it):
 
-    | returned by ``step``   | what                                                                |
-    |------------------------|---------------------------------------------------------------------|
-    | observations           | the *next* episode's context, normalised, ``(num_envs, k)`` float32 |
-    | rewards                | each design's reward, :func:`aero_env.reward.reward`, float64       |
-    | terminated / truncated | all True / all False                                                |
-    | ``info["final_obs"]``  | object array: the observation each finished episode was stepped on  |
-    | ``info["final_info"]`` | the finished episodes' infos (below)                                |
-    | ``info["context"]``    | the next episode's context, SI (the reset info)                     |
+    | mode                  | a step                                                                  |
+    |-----------------------|-------------------------------------------------------------------------|
+    | ``SAME_STEP`` (default) | scores every sub-env's design and resets it in the same call: every step scores ``num_envs`` designs |
+    | ``NEXT_STEP``         | a sub-env whose episode the last step ended is only reset (its action ignored, reward 0, terminated and truncated False, its reset info); every other sub-env runs its design. Without masked resets every other step only resets |
+    | ``DISABLED``          | every sub-env runs its design, none is reset; a step while any sub-env's episode has ended (after every step, here) is refused with a ``ConfigError`` naming them: call ``reset()`` or ``reset(options={"reset_mask": mask})`` first (``SyncVectorEnv`` refuses with an ``AssertionError``) |
+
+    SAME_STEP is what SB3 and ``aero-env train --vector`` need (``agents.vec_env``). Gymnasium's vector
+    observation wrappers (``gymnasium.wrappers.vector``: ``NormalizeObservation``, ``FlattenObservation``,
+    ``DtypeObservation``, ``TransformObservation``, ...) refuse SAME_STEP; they take NEXT_STEP, and all
+    but ``NormalizeObservation`` take DISABLED:
+
+    ```python
+    envs = gym.make_vec("aero_env/AerialAcrobatContexts-v0", num_envs=8, vectorization_mode="vector_entry_point",
+                        autoreset_mode=gym.vector.AutoresetMode.NEXT_STEP)
+    envs = gym.wrappers.vector.NormalizeObservation(envs)
+    ```
+
+    | returned by ``step``   | SAME_STEP                                                | NEXT_STEP, DISABLED                          |
+    |------------------------|----------------------------------------------------------|----------------------------------------------|
+    | observations           | the *next* episode's context, normalised, ``(num_envs, k)`` float32 | the stepped episode's own (a reset sub-env: its new episode's) |
+    | rewards                | each design's reward, :func:`aero_env.reward.reward`, float64 | the same; 0 for a sub-env that was reset |
+    | terminated             | all True                                                 | True where a design ran                      |
+    | truncated              | all equal to ``max_episode_steps == 1`` (below)          | the same where a design ran; False where reset |
+    | ``info["final_obs"]``  | object array: the observation each finished episode was stepped on | absent                      |
+    | ``info["final_info"]`` | the finished episodes' infos (below)                     | absent: their keys are in ``info`` itself, masked to the sub-envs that ran |
+    | ``info["context"]``    | the next episode's context, SI (the reset info)          | the stepped episode's context (a reset sub-env: its new one) |
+
+    ``truncated`` follows Gymnasium's ``TimeLimit``: ``gym.make_vec`` passes the spec's
+    ``max_episode_steps`` (1 for every registered id), and TimeLimit truncates the step at which an
+    episode's steps reach it, so each scored step returns truncated True beside terminated True, as
+    ``SyncVectorEnv`` of ``gym.make`` envs does; built without it (``AerialAcrobatVectorEnv(n, ...)``,
+    or ``max_episode_steps=-1``), truncated is False. Why both are True: the single env's "Episode
+    End" section.
 
     ## Info
 
-    A dict of arrays, one entry per sub-env, each key with its ``_key`` mask (all True: every
-    sub-env finishes every step), built as ``SyncVectorEnv`` builds it from the single envs'
-    infos (Gymnasium's dtypes included). ``final_info`` holds the single env's step info:
+    A dict of arrays, one entry per sub-env, each key with its ``_key`` mask, built as
+    ``SyncVectorEnv`` builds it from the single envs' infos (Gymnasium's dtypes included). Under
+    SAME_STEP every mask is all True (every sub-env finishes every step) and ``final_info`` holds the
+    single env's step info; under NEXT_STEP and DISABLED ``info`` itself holds it, each key's mask
+    True on the sub-envs that ran a design (``context``'s on every sub-env: a reset sub-env's is its
+    reset info). The step info's keys:
 
     | key                                                                     | reduced | pymunk |
     |-------------------------------------------------------------------------|---------|--------|
@@ -107,19 +135,41 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
     | ``config``    | None             | a YAML path or a :class:`Config`; None: the prototype            |
     | ``overrides`` | None             | dotted-key overrides (``{"scene.frames": 3}``)                   |
     | ``workers``   | 1                | pymunk fidelities: processes in the pool (``os.cpu_count()``: one per core; needs the ``__main__`` guard); 1: this process, no pool; unused at ``reduced`` |
+    | ``autoreset_mode`` | ``SAME_STEP`` | ``SAME_STEP``, ``NEXT_STEP`` or ``DISABLED`` (above); anything else is refused with a one-line ``ConfigError`` |
+    | ``max_episode_steps`` | None      | TimeLimit's limit per sub-env, as ``gym.make_vec`` passes the spec's (1); None or -1: none (truncated False) |
     | ``**kwargs``  |                  | more dotted-key overrides, as ``gym.make``                       |
 
     Actions are ``(num_envs, d)`` in the single env's box; a bad row raises ``ConfigError`` naming
     the row, the dimension and its field. There is no rendering and no trace (``env.record_trace``
     is refused): step the single env to watch a design. ``close()`` stops the pool.
+
+    ## Version History
+
+    The ids have stayed ``-v0``; what changed for the vector entry point (the single env's history
+    holds the rest):
+
+    * v0, first: ``num_envs`` designs per step through ``vector_entry_point``, SAME_STEP autoreset
+      only; a reduced step is one call of the model, pymunk designs run in a process pool.
+    * v0: pymunk designs run in this process unless ``workers`` asks for a pool; at ``reduced`` the step
+      goes from the actions to the model's kernel in arrays (the same rewards and infos, bit for bit).
+    * v0: ``autoreset_mode`` (NEXT_STEP, DISABLED beside SAME_STEP) and ``max_episode_steps`` (from
+      the spec through ``gym.make_vec``: truncated True on each scored step, as TimeLimit gives the
+      single envs).
     """
 
-    metadata = {"autoreset_mode": AutoresetMode.SAME_STEP, "render_modes": []}
+    metadata = {"autoreset_mode": AutoresetMode.SAME_STEP, "render_modes": []}  # each instance: its own mode
 
     def __init__(self, num_envs: int = 1, config: str | Path | Config | None = None,
                  overrides: Mapping[str, Any] | None = None, render_mode: str | None = None,
-                 workers: int | None = None, **kwargs: Any):
+                 workers: int | None = None, autoreset_mode: AutoresetMode | str = AutoresetMode.SAME_STEP,
+                 max_episode_steps: int | None = None, **kwargs: Any):
         self._pool = None  # first, so that close() works whatever below fails
+        self.autoreset_mode = _autoreset_mode(autoreset_mode)
+        self.metadata = {**type(self).metadata, "autoreset_mode": self.autoreset_mode}  # Gymnasium's wrappers read it
+        self.max_episode_steps = _max_episode_steps(max_episode_steps)
+        # each episode is one step, so TimeLimit(max_episode_steps) truncates it (beside terminated) exactly when
+        # the limit is 1: elapsed = 1 >= max_episode_steps
+        self._truncates = self.max_episode_steps == 1
         whole = isinstance(num_envs, (int, np.integer)) and not isinstance(num_envs, bool)
         if not whole or not 1 <= num_envs <= MAX_NUM_ENVS:
             raise ConfigError(f"num_envs = {num_envs!r}: must be a whole number in [1, {MAX_NUM_ENVS}] (designs per "
@@ -148,6 +198,9 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         self._fixed = None if self.space.draws_anything else self.space.fixed_draw()
         self._draws: list[Draw] = [self.space.nominal_draw()] * self.num_envs
         self._observations = self._observe()
+        # NEXT_STEP and DISABLED: the sub-envs whose episode ended at the last step, not reset since (SyncVectorEnv's
+        # _autoreset_envs): NEXT_STEP resets them at the next step, DISABLED refuses to step them
+        self._ended = np.zeros(self.num_envs, dtype=np.bool_)
         if not self.reduced and self.workers > 1:
             _check_spawn_guard(self.workers)
             self._pool = ProcessPoolExecutor(min(self.workers, self.num_envs), mp_context=get_context(POOL_START_METHOD))
@@ -176,6 +229,7 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
             if seeds[i] is not None and self.space.draws_anything:  # nothing drawn: the RNG is never read
                 self._rngs[i] = seeding.np_random(seeds[i])[0]
             self._draws[i] = self._draw(i)
+        self._ended[mask] = False
         self._observations = self._observe()
         if mask.all():
             info = self._reset_infos()
@@ -185,11 +239,9 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
 
     def step(self, actions):
         self._check_shape(actions)
-        ran = self._run_columns(actions) if self.reduced else None
-        if ran is None:
-            rewards, final_info = self._run_episodes(self._plan(actions))
-        else:
-            rewards, final_info = ran
+        if self.autoreset_mode != AutoresetMode.SAME_STEP:
+            return self._step_apart(actions)
+        rewards, final_info = self._run(actions, np.arange(self.num_envs))
         final_obs = np.full(self.num_envs, None, dtype=object)
         for i, row in enumerate(self._observations):
             final_obs[i] = row.copy()
@@ -200,10 +252,53 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         info = {"final_obs": final_obs, "_final_obs": every, "final_info": final_info,
                 "_final_info": every.copy(), **self._reset_infos()}
         return (self._observations.copy(), rewards, np.ones(self.num_envs, dtype=np.bool_),
-                np.zeros(self.num_envs, dtype=np.bool_), info)
+                np.full(self.num_envs, self._truncates, dtype=np.bool_), info)
 
-    def _run_episodes(self, episodes: list[Episode]) -> tuple[np.ndarray, dict]:
-        """The step's runs, one :class:`Episode` each: their rewards and the vector info of their step infos."""
+    def _step_apart(self, actions):
+        """A step under NEXT_STEP or DISABLED, as ``SyncVectorEnv`` steps its sub-envs in that mode: a sub-env whose
+        episode ended at the last step is reset (NEXT_STEP: its action ignored, reward 0, terminated and truncated
+        False, its reset info) or refused (DISABLED); every other sub-env runs its design and returns the episode's
+        own observation and its step info, with no ``final_obs`` or ``final_info``."""
+        if self.autoreset_mode == AutoresetMode.DISABLED and self._ended.any():
+            ended = np.flatnonzero(self._ended).tolist()
+            raise ConfigError(f"step(): sub-envs {ended} ended at the last step and autoreset_mode = DISABLED resets "
+                              f"none itself; call reset(options={{'reset_mask': mask}}) with those True, or reset(), "
+                              f"first")
+        resetting = self._ended.copy()
+        stepped = np.flatnonzero(~resetting)
+        rewards = np.zeros(self.num_envs, dtype=np.float64)
+        parts = []
+        if len(stepped):
+            ran, info = self._run(actions, stepped)
+            rewards[stepped] = ran
+            parts.append((stepped, info))
+        if resetting.any():
+            for i in np.flatnonzero(resetting):  # unseeded, as SyncVectorEnv's env.reset(): each RNG goes on
+                self._draws[i] = self._draw(i)
+            self._observations = self._observe()
+            parts.append((np.flatnonzero(resetting), self._reset_infos(np.flatnonzero(resetting))))
+        # one part: its info is already every sub-env's; two: folded in sub-env order, as SyncVectorEnv's _add_info
+        info = parts[0][1] if len(parts) == 1 else scatter_infos(sorted(parts, key=lambda p: p[0][0]), self.num_envs)
+        terminated = ~resetting
+        truncated = terminated & self._truncates
+        self._ended = terminated | truncated
+        return self._observations.copy(), rewards, terminated, truncated, info
+
+    def _run(self, actions, rows: np.ndarray) -> tuple[np.ndarray, dict]:
+        """The episodes of sub-envs ``rows`` (ascending) on their rows of ``actions``: their rewards and the vector
+        info of their step infos, one entry per row in that order (all of them: every ``_key`` mask all True)."""
+        if len(rows) == self.num_envs:  # every sub-env (SAME_STEP, DISABLED, a NEXT_STEP step that resets none)
+            ran = self._run_columns(actions) if self.reduced else None
+            return ran if ran is not None else self._run_episodes(self._plan(actions))
+        draws = [self._draws[i] for i in rows]
+        actions = np.asarray(actions)[rows]
+        ran = self._run_columns(actions, draws) if self.reduced else None
+        return ran if ran is not None else self._run_episodes(self._plan(actions, rows, draws), draws)
+
+    def _run_episodes(self, episodes: list[Episode], draws: list[Draw] | None = None) -> tuple[np.ndarray, dict]:
+        """The step's runs, one :class:`Episode` each (in the scenes of ``draws``, default every sub-env's): their
+        rewards and the vector info of their step infos."""
+        draws = self._draws if draws is None else draws
         if self.reduced:
             from ..models.reduced.batch import reduced_batch  # numba's import waits for the first reduced step
 
@@ -213,25 +308,27 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
             results = self._simulate_each([e.config for e in episodes])
             rewards = np.array([reward(r, e.config) for r, e in zip(results, episodes)], dtype=np.float64)
             runs = [r.to_json_dict() for r in results]
-        return rewards, stack_infos([episode_info(run, e, d) for run, e, d in zip(runs, episodes, self._draws)])
+        return rewards, stack_infos([episode_info(run, e, d) for run, e, d in zip(runs, episodes, draws)])
 
-    def _run_columns(self, actions) -> tuple[np.ndarray, dict] | None:
-        """At ``reduced``: :meth:`_run_episodes` of the step's episodes with one array per field and no Python per
-        design between the actions and the model's kernel: the same rewards and infos, bit for bit
-        (``tests/test_vector_env.py``). None where a row of ``actions`` is bad or the model refuses an episode: the
-        per-episode path then words the refusal as the single env does."""
+    def _run_columns(self, actions, draws: list[Draw] | None = None) -> tuple[np.ndarray, dict] | None:
+        """At ``reduced``: :meth:`_run_episodes` of the step's episodes (``actions`` one row per draw of ``draws``,
+        default every sub-env's) with one array per field and no Python per design between the actions and the
+        model's kernel: the same rewards and infos, bit for bit (``tests/test_vector_env.py``). None where a row of
+        ``actions`` is bad or the model refuses an episode: the per-episode path then words the refusal as the single
+        env does."""
         from ..models.reduced.batch import reduced_columns
 
+        draws = self._draws if draws is None else draws
         a = self.space.rows_in_box(actions, self._clip)
         if a is None:
             return None
         design = self.space.values_columns(a)
-        values, built = self.space.episode_columns(design, self._draws)
+        values, built = self.space.episode_columns(design, draws)
         ran = reduced_columns(self.config, values)
         if ran is None:
             return None
         batch, rewards = ran
-        return rewards, batch_infos(batch, self.config.sim.fidelity, design, self._contexts(), built, self.num_envs)
+        return rewards, batch_infos(batch, self.config.sim.fidelity, design, self._contexts(draws), built, len(draws))
 
     def close_extras(self, **kwargs: Any) -> None:
         if self._pool is not None:
@@ -260,13 +357,16 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
     def _observe(self) -> np.ndarray:
         return self.space.observations(self._draws)
 
-    def _contexts(self) -> dict[str, list]:
-        """Every sub-env's drawn context, by key: one value per sub-env."""
-        return {k: [d.context[k] for d in self._draws] for k in self._draws[0].context}
+    def _contexts(self, draws: list[Draw] | None = None) -> dict[str, list]:
+        """Each draw's context (every sub-env's by default), by key: one value per draw."""
+        draws = self._draws if draws is None else draws
+        return {k: [d.context[k] for d in draws] for k in draws[0].context}
 
-    def _reset_infos(self) -> dict:
-        """``stack_infos`` of every sub-env's reset info (its drawn context), built by key."""
-        return stack_columns({"context": self._contexts()}, self.num_envs)
+    def _reset_infos(self, rows=None) -> dict:
+        """``stack_infos`` of the reset infos (the drawn contexts) of sub-envs ``rows`` (default every one), built by
+        key: one entry per row."""
+        draws = self._draws if rows is None else [self._draws[i] for i in rows]
+        return stack_columns({"context": self._contexts(draws)}, len(draws))
 
     def _seeds(self, seed) -> list:
         if seed is None:
@@ -302,10 +402,14 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
             raise ConfigError(f"actions has shape {shape}: expected (num_envs, d) = {expected}, one row per "
                               f"sub-env and one value per tunable ({', '.join(t.name for t in self.space.tunables)})")
 
-    def _plan(self, actions) -> list[Episode]:
+    def _plan(self, actions, rows=None, draws: list[Draw] | None = None) -> list[Episode]:
+        """The episodes of sub-envs ``rows`` (default every one): ``actions`` holds their rows, in order, in the
+        scenes of ``draws``."""
+        rows = range(self.num_envs) if rows is None else rows
+        draws = self._draws if draws is None else draws
         a = np.asarray(actions)
         episodes = []
-        for i, (row, draw) in enumerate(zip(a, self._draws)):
+        for i, row, draw in zip(rows, a, draws):
             try:
                 episodes.append(plan_episode(self.space, draw, row, self._clip))
             except ConfigError as exc:
@@ -321,6 +425,30 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
             raise RuntimeError(f"the pool's worker processes ended before they returned a run: spawn runs this "
                                f"script again in each worker, so make the env under {GUARD} (or leave out workers= to "
                                f"run in this process); a worker killed for memory ends the same way") from None
+
+
+def _autoreset_mode(value) -> AutoresetMode:
+    """``value`` as an :class:`AutoresetMode`: the member, its value (``"NextStep"``, as Gymnasium's vector envs take
+    it) or its name (``"NEXT_STEP"``); anything else raises a one-line ``ConfigError`` naming the allowed values."""
+    if isinstance(value, AutoresetMode):
+        return value
+    if isinstance(value, str):
+        for mode in AutoresetMode:
+            if value in (mode.value, mode.name):
+                return mode
+    allowed = ", ".join(f"AutoresetMode.{m.name} ({m.value!r})" for m in AutoresetMode)
+    raise ConfigError(f"autoreset_mode = {value!r}: must be one of {allowed}, or the member's name as a string")
+
+
+def _max_episode_steps(value) -> int | None:
+    """The limit TimeLimit would put on each sub-env (``gym.make_vec`` passes the spec's); None or -1: none, as
+    ``gym.make(..., max_episode_steps=-1)``."""
+    if value is None or (isinstance(value, (int, np.integer)) and not isinstance(value, bool) and value == -1):
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise ConfigError(f"max_episode_steps = {value!r}: must be a whole number >= 1 (TimeLimit's steps per "
+                          f"episode; every episode here is 1 step), or None or -1 for no limit")
+    return int(value)
 
 
 def _check_spawn_guard(workers: int) -> None:

@@ -13,7 +13,7 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["stack_infos", "stack_values", "stack_columns", "batch_runs", "batch_infos"]
+__all__ = ["stack_infos", "stack_values", "stack_columns", "scatter_infos", "batch_runs", "batch_infos"]
 
 # Gymnasium's _add_info gives a typed array to exactly these types (and numpy scalars); others go in objects.
 _TYPED_SCALARS = (int, float, bool)
@@ -53,6 +53,37 @@ def stack_columns(columns: dict, n: int) -> dict:
         out[key] = stack_columns(values, n) if isinstance(values, dict) else stack_values(values)
         out[f"_{key}"] = np.ones(n, dtype=np.bool_)
     return out
+
+
+def scatter_infos(parts: Sequence[tuple[np.ndarray, dict]], n: int) -> dict:
+    """One vector info of ``n`` sub-envs from ``parts``, each ``(rows, info)``: the vector info of sub-envs ``rows``
+    (ascending; one entry per row, every mask True), the parts' rows disjoint and the parts in the order of their
+    first row. What ``VectorEnv._add_info`` builds when each sub-env's info is added in sub-env order (a NEXT_STEP
+    step that resets some sub-envs and runs the others): keys in the order first met, each array made on the first
+    part that has the key (of that part's dtype; zeros, or None in an object array, where no part sets it) and its
+    ``_key`` mask True on the rows that set it."""
+    out: dict = {}
+    for rows, info in parts:
+        _scatter(out, info, np.asarray(rows), n)
+    return out
+
+
+def _scatter(out: dict, info: dict, rows: np.ndarray, n: int) -> None:
+    for key, value in info.items():
+        if key.startswith("_") and key[1:] in info:
+            continue  # a mask: set beside its key
+        if isinstance(value, dict):
+            array = out.get(key, {})
+            _scatter(array, value, rows, n)
+        else:
+            array = out.get(key)
+            if array is None:
+                array = (np.full(n, None, dtype=object) if value.dtype == object
+                         else np.zeros((n, *value.shape[1:]), dtype=value.dtype))
+            array[rows] = value
+        mask = out.get(f"_{key}", np.zeros(n, dtype=np.bool_))
+        mask[rows] = True
+        out[key], out[f"_{key}"] = array, mask
 
 
 def batch_infos(batch, fidelity: str, design: dict, context: dict, as_built: dict, n: int) -> dict:
