@@ -28,16 +28,22 @@ def whole(lo: int, hi: int):
     """An argparse ``type`` for a whole number in [lo, hi]: a slip (``-3`` for a seed, ``2.5`` for a count) is
     argparse's one-line error naming the option, the value and the range, before the command runs."""
     def parse(text: str) -> int:
-        try:
-            value = int(str(text), 10)
-        except ValueError:
-            value = None
-        if value is None or not lo <= value <= hi:
+        value = _whole_in(text, lo, hi)
+        if value is None:
             raise argparse.ArgumentTypeError(f"{text!r}: must be a whole number in [{lo}, {hi}]")
         return value
 
     parse.__name__ = f"whole number in [{lo}, {hi}]"  # what argparse names in its own messages
     return parse
+
+
+def _whole_in(text, lo: int, hi: int) -> int | None:
+    """``text`` as a whole number in [lo, hi] (decimal, as written: ``1.5`` and ``x`` are not), else None."""
+    try:
+        value = int(str(text), 10)
+    except ValueError:
+        return None
+    return value if lo <= value <= hi else None
 
 
 def add_seed(parser, default: int, help_text: str) -> None:
@@ -53,11 +59,8 @@ def load_scene(args) -> Config:
 
 def whole_number(option: str, text, lo: int, hi: int, why: str = "") -> int:
     """An option's whole number within [lo, hi], or a ConfigError naming it (and ``why`` the range, if given)."""
-    try:
-        value = int(str(text))
-    except ValueError:
-        value = None
-    if value is None or not lo <= value <= hi:
+    value = _whole_in(text, lo, hi)
+    if value is None:
         raise ConfigError(f"{option} = {text!r}: must be a whole number in [{lo}, {hi}]" + (f" ({why})" if why else ""))
     return value
 

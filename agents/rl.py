@@ -46,7 +46,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from aero_env.config import Config, ConfigError, MissingExtra, did_you_mean, from_dict, load_config
-from aero_env.scene_args import check_output_dir
+from aero_env.scene_args import MAX_SEED, check_output_dir
 
 from .interrupts import SigintOnce, children_ignore_sigint, write_atomically
 from .options import ALGOS, check_choice, check_ints
@@ -93,7 +93,7 @@ class TrainSettings:
     def check(self) -> "TrainSettings":
         check_choice("algo", self.algo, ALGOS)
         check_ints(self, (("timesteps", 1, 10**9), ("n_envs", 1, 256), ("eval_every", 0, 10**9),
-                          ("seed", 0, 2**31 - 1)))
+                          ("seed", 0, MAX_SEED)))
         hp = {}
         for name, value in (self.hyperparameters or {}).items():
             if name not in ALGO_DEFAULTS[self.algo]:
@@ -486,7 +486,7 @@ def evaluate(run_dir: str | Path, episodes: int = 20, seed: int = 0, config: Con
     design problem (:func:`_check_same_problem`): the same context, ranges included (the observation), and
     the same tunable fields (the action), in order. The tunables' ranges may differ; the action then maps
     onto the new scene's ranges (relative ranges follow it)."""
-    check_ints(SimpleNamespace(episodes=episodes, seed=seed), (("episodes", 1, 10**6), ("seed", 0, 2**31 - 1)))
+    check_ints(SimpleNamespace(episodes=episodes, seed=seed), (("episodes", 1, 10**6), ("seed", 0, MAX_SEED)))
     from aero_env.envs import AerialAcrobatEnv
 
     model, trained_on, run = load_run(run_dir)

@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from aero_env.config import FIDELITY_PRESETS, ConfigError
+from aero_env.scene_args import MAX_SEED
 
 from .options import SAMPLERS, check_choice, check_ints
 from .study_faults import RECONNECT_S
@@ -33,7 +34,7 @@ class TuneSettings:
     def check(self) -> "TuneSettings":
         check_choice("sampler", self.sampler, SAMPLERS)
         check_ints(self, (("trials", 1, 10**7), ("seeds_per_design", 1, 10**4), ("workers", 1, 512),
-                          ("seed", 0, 2**31 - 1), ("screen_designs", 1, 10**8),
+                          ("seed", 0, MAX_SEED), ("screen_designs", 1, 10**8),
                           ("robust", 0, 10**4)))
         if (isinstance(self.reconnect_s, bool) or not isinstance(self.reconnect_s, (int, float))
                 or not 0 <= self.reconnect_s <= 86400):
