@@ -324,7 +324,7 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
         todo, wall_before = settings.timesteps - before["timesteps_done"], float(before.get("wall_time", 0.0))
     model = venv = evaluation = None
     t0 = time.perf_counter()
-    with SigintOnce(f"aero-env train: saving the run in {out}; it stops once the save is done") as sigint:
+    with SigintOnce(f"aero-env train: stopping; it ends once {out} holds a whole run or nothing new") as sigint:
         try:
             with children_ignore_sigint():  # the workers leave Ctrl-C to this process, which closes them
                 out.mkdir(parents=True, exist_ok=True)
