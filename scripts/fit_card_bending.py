@@ -1,4 +1,4 @@
-"""Fit the card's bending stiffness D on a measured leaf-spring strip (aero_env/sheet/card.py).
+"""Fit the card's bending stiffness D on a measured leaf-spring strip (aero_env/parts/card.py).
 
     python scripts/fit_card_bending.py                      # the paper's 0.877 N·mm/rad, prototype strip
     python scripts/fit_card_bending.py --k 0.95 --width 4 --length 18   # your own bench measurement
@@ -6,12 +6,12 @@
 One measurement, one unknown: D = k·L / (n·w) for a strip of width w, free length L (between its glue
 lines) and n loose layers, whose stiffness k you measured as the paper does (Fig. 18: a load at the arm's
 tip and the arm's turn). The paper gives k for its prototype but not the strip's size: the defaults are
-the assumed PROTOTYPE_STRIP. Put the printed D in aero_env/sheet/card.py's PAPER_CARD (or your card's).
+the assumed PROTOTYPE_STRIP. Put the printed D in aero_env/parts/card.py's PAPER_CARD (or your card's).
 """
 
 import argparse
 
-from aero_env.sheet.card import PAPER_CARD, PAPER_SPRING_K, PROTOTYPE_STRIP, Strip, fit_bending_stiffness
+from aero_env.parts.card import PAPER_CARD, PAPER_SPRING_K, PROTOTYPE_STRIP, Strip, fit_bending_stiffness
 
 
 def main() -> None:

@@ -26,10 +26,14 @@ def test_the_md_sheet_gives_the_configs_parts_in_mm_and_g(tmp_path, capsys):
                  "--set", "design.m3=0.0065", *SHORT_ROW]) == 0
     sheet = out.read_text()
     assert _row(sheet, "skewer hole to counterbalance (La)") == "50.1 mm"
-    assert _row(sheet, "mass at (La, h) (m3)") == "6.50 g (6.5 one-yen coins)"
+    assert _row(sheet, "mass at (La, h) (m3)") == "6 one-yen coins + 0.50 g clay (6.50 g)"  # no fractional coin
     # the torso's card is what the robot's 7.71 g leaves after the arm, coins and handrail
-    assert _row(sheet, "torso strip below the axle / its card (m2 less the parts listed here)") == \
-        "39.1 mm / 2.00 g (2.0 one-yen coins)"
+    assert _row(sheet, "torso below the axle / its card (m2 less the parts listed here)") == \
+        "39.1 mm / 2.00 g, 6 layers glued flat"
+    # the handrail's angle as the template draws it: from the frame line, and from the horizontal (the config's)
+    assert _row(sheet, "the L's bisector at rest: from the frame line / from the horizontal / opening") == \
+        "+9.7 deg / 64.7 deg / 90 deg"
+    assert "one-yen coins)" not in sheet and not re.search(r"\d\.\d+ one-yen", sheet)
     assert "0.877 N·mm/rad (linear)" in sheet and "0.92 N·mm" in sheet  # k·60 deg, the paper's sanity check
     assert "5.0 mm wide, 20.0 mm free between two 5 mm glue tabs" in sheet  # the prototype's strip
     assert "In the simulated world this design" in sheet and "Robustness: not assessed" in sheet
@@ -68,53 +72,55 @@ def test_the_svg_template_is_one_to_one(tmp_path, paper_cfg):
     width = float(doc.getAttribute("width").removesuffix("mm"))
     assert doc.getAttribute("viewBox").split()[2] == f"{width:.1f}"  # one user unit is one millimetre
     d = paper_cfg.design
-    frame = _part(doc, "swing-frame")
+    frame = _part(doc, "part-frame-side-card")
     hole = frame.getElementsByTagName("circle")[0]
     seat = frame.getElementsByTagName("line")[0]
     assert _f(hole, "cx") - _f(seat, "x1") == pytest.approx(d.Lb * 1e3, abs=0.01)
-    arm = _part(doc, "arm")
+    arm = _part(doc, "part-arm")
     fold = arm.getElementsByTagName("line")[0]
     assert _f(fold, "x1") - _f(arm.getElementsByTagName("circle")[0], "cx") == pytest.approx(d.arm_length * 1e3, abs=0.01)
-    torso = _part(doc, "torso")
+    torso = _part(doc, "part-torso")
     card, axle, coins = torso.getElementsByTagName("rect")[0], *torso.getElementsByTagName("circle")
     assert _f(card, "width") - _f(axle, "cx") == pytest.approx(d.torso_length * 1e3, abs=0.01)
     assert _f(coins, "r") == pytest.approx(d.coin_radius * 1e3)
     assert _f(coins, "cx") + _f(coins, "r") == pytest.approx(_f(card, "width"), abs=0.01)  # flush with the bottom
-    rail = _part(doc, "handrail").getElementsByTagName("rect")[0]
+    rail = _part(doc, "part-handrail").getElementsByTagName("rect")[0]
     assert _f(rail, "height") == pytest.approx((d.notch_back_face + d.notch_front_face) * 1e3, abs=0.01)
     assert any(r.getAttribute("class") == "scale-bar" and _f(r, "width") == 50.0 for r in doc.getElementsByTagName("rect"))
 
 
 def _spring_strips(svg_path):
-    """(cut length, width) in mm of each leaf-spring strip drawn in the template."""
+    """(cut length, width) in mm of each leaf-spring strip the template says to cut: the strip drawn, as many times
+    as its caption's "cut N strip(s)"."""
     doc = xml.dom.minidom.parse(str(svg_path)).documentElement
-    return [(_f(r, "width"), _f(r, "height")) for r in _part(doc, "leaf-spring").getElementsByTagName("rect")]
+    n = int(re.search(r"LEAF SPRING: cut (\d+) strip", open(svg_path).read()).group(1))
+    return [(_f(r, "width"), _f(r, "height")) for r in _part(doc, "part-leaf-spring").getElementsByTagName("rect")] * n
 
 
 def _bending_k(strips, tab_mm=5.0):
     """The strips' torque per radian by the pure-bending law written out here: n·D·w/L, L the free length."""
-    from aero_env.sheet.card import PAPER_CARD
+    from aero_env.parts.card import PAPER_CARD
 
     D = PAPER_CARD.bending_stiffness
     return sum(D * (w * 1e-3) / ((cut - 2 * tab_mm) * 1e-3) for cut, w in strips)
 
 
 def test_the_cards_bending_stiffness_is_the_fit_on_the_papers_spring():
-    from aero_env.sheet.card import PAPER_CARD, PAPER_SPRING_K, PROTOTYPE_STRIP, fit_bending_stiffness
+    from aero_env.parts.card import PAPER_CARD, PAPER_SPRING_K, PROTOTYPE_STRIP, fit_bending_stiffness
 
     # the stored value is the fit's (scripts/fit_card_bending.py), rounded: it cannot go stale
     assert PAPER_CARD.bending_stiffness == pytest.approx(fit_bending_stiffness(PAPER_SPRING_K, PROTOTYPE_STRIP),
                                                          rel=1e-3)
 
 
-@pytest.mark.parametrize("k", [8.77e-4, 4e-4, 1.5e-3, 3.5e-3])
+@pytest.mark.parametrize("k", [8.77e-4, 5e-4, 1.5e-3, 3.5e-3])
 def test_the_spring_strip_on_the_template_gives_the_designs_stiffness(tmp_path, k):
     out = tmp_path / "t.svg"
     assert main(["sheet", str(PAPER), "--out", str(out), "--set", f"design.spring_k={k}"]) == 0
     strips = _spring_strips(out)
     assert _bending_k(strips) == pytest.approx(k, rel=0.01)
     for cut, w in strips:
-        assert 2.0 - 1e-9 <= w <= 8.0 + 1e-9  # cuttable, and no wider than the arm it is glued to
+        assert 3.0 - 1e-9 <= w <= 8.0 + 1e-9  # cuts cleanly with scissors, and no wider than 8 mm
         assert cut - 10.0 <= 25.0 + 1e-9  # ends a glue tab before the hook (30 mm arm)
     if k == 8.77e-4:  # the paper's 0.877 N·mm/rad: the prototype's strip, one layer
         assert strips == [(30.0, 5.0)]
@@ -132,7 +138,7 @@ def test_a_spring_no_strip_can_make_is_said_so(tmp_path, k, why):
 
 def _spring_strips_or_none(svg_path):
     doc = xml.dom.minidom.parse(str(svg_path)).documentElement
-    return next((g for g in doc.getElementsByTagName("g") if g.getAttribute("id") == "leaf-spring"), None)
+    return next((g for g in doc.getElementsByTagName("g") if g.getAttribute("id") == "part-leaf-spring"), None)
 
 
 def test_the_bench_check_is_the_arms_turn_under_the_papers_loads(paper_cfg):
@@ -146,7 +152,7 @@ def test_the_bench_check_is_the_arms_turn_under_the_papers_loads(paper_cfg):
 def test_one_command_writes_the_sheet_and_its_template(tmp_path, capsys):
     kit = tmp_path / "kit"
     assert main(["sheet", str(PAPER), "--out", str(kit), "--draws", "0", *SHORT_ROW]) == 0
-    assert sorted(p.name for p in kit.iterdir()) == ["sheet.md", "template.svg"]
+    assert sorted(p.name for p in kit.iterdir()) == ["parts.json", "sheet.md", "template.svg"]
     assert "[template.svg](template.svg)" in (kit / "sheet.md").read_text()
     (kit / "notes.txt").write_text("mine")  # a folder with the maker's own files: the sheet writes beside them
     assert main(["sheet", str(PAPER), "--out", str(kit), "--draws", "0", *SHORT_ROW, "--set", "design.La=0.05"]) == 0
@@ -215,11 +221,11 @@ def _torque_per_radian(D, strip):
     (8.77e-4, 30.0, 60.0, "width"),  # the prototype: the free length kept, the width chosen
     (3.5e-3, 30.0, 60.0, "layers"),  # too stiff for one strip 8 mm wide: stacked
     (5e-3, 30.0, 30.0, "shorter"),  # too stiff for three: full width, shorter (a 30 deg bend allows it)
-    (2e-4, 50.0, 60.0, "longer"),  # too soft for a 2 mm strip 20 mm long: longer (a 50 mm arm has room)
+    (3e-4, 50.0, 60.0, "longer"),  # too soft for a 3 mm strip 20 mm long: longer (a 50 mm arm has room)
 ])
 def test_the_planned_strip_gives_the_stiffness_asked_for_and_the_plan_says_so(k, arm_mm, bend_deg, how):
-    from aero_env.sheet.card import PAPER_CARD
-    from aero_env.sheet.spring_strip import plan_strip
+    from aero_env.parts.card import PAPER_CARD
+    from aero_env.parts.spring_strip import plan_strip
 
     D = PAPER_CARD.bending_stiffness
     assert D == pytest.approx(0.877e-3 * 20e-3 / 5e-3, rel=1e-3)  # the card's constant is the fit written out
@@ -229,7 +235,7 @@ def test_the_planned_strip_gives_the_stiffness_asked_for_and_the_plan_says_so(k,
     assert {"width": st.layers == 1 and st.free_length == 20e-3 and 2e-3 < st.width < 8e-3,
             "layers": st.layers > 1 and st.free_length == 20e-3,
             "shorter": st.layers == 3 and st.width == 8e-3 and st.free_length < 20e-3,
-            "longer": st.layers == 1 and st.width == 2e-3 and st.free_length > 20e-3}[how], st
+            "longer": st.layers == 1 and st.width == 3e-3 and st.free_length > 20e-3}[how], st
     # the strip to cut gives k by the law, and the stiffness the plan reports (the template prints it) is the law's
     assert _torque_per_radian(D, st) == pytest.approx(k, rel=1e-12)
     assert plan.stiffness == pytest.approx(_torque_per_radian(D, st), rel=1e-12)
@@ -238,8 +244,8 @@ def test_the_planned_strip_gives_the_stiffness_asked_for_and_the_plan_says_so(k,
 @pytest.mark.parametrize("law", ["linear", "stiffening"])
 @pytest.mark.parametrize("k", [8.77e-4, 1.5e-3, 3.5e-3])
 def test_the_template_prints_the_stiffness_its_strip_gives(paper_cfg, k, law):
-    from aero_env.sheet.card import PAPER_CARD
-    from aero_env.sheet.template import spring
+    from aero_env.parts.card import PAPER_CARD
+    from aero_env.parts.kit import spring
 
     cfg = paper_cfg.replace({"design.spring_k": k, "scene.effects.spring_law": law})
     d = cfg.design

@@ -86,7 +86,8 @@ def test_the_template_renders_at_its_stated_size_with_every_part_and_no_overlap(
     bar = m["bar"]
     assert bar[2] - bar[0] == pytest.approx(50 * PX_PER_MM, abs=0.2)  # the print's check
 
-    assert {name for name, _ in m["parts"]} == {"swing-frame", "handrail", "arm", "torso", "leaf-spring", "stand"}
+    assert {name for name, _ in m["parts"]} == {"part-frame-side-card", "part-handrail", "part-counterbalance",
+                                                "part-arm", "part-torso", "part-leaf-spring", "stand"}
     caps = m["captions"]
     for i, (text, box) in enumerate(caps):
         for other, obox in caps[i + 1:]:
@@ -95,5 +96,5 @@ def test_the_template_renders_at_its_stated_size_with_every_part_and_no_overlap(
             assert not _overlap(box, pbox), f"caption {text!r} overlaps part {name}"
         assert box[2] <= m["size"][0] and box[0] >= 0, f"caption {text!r} runs off the page"
     # the frame's skewer hole and the arm's and torso's axle holes, each wholly inside its card
-    assert sorted(name for name, _ in m["holes"]) == ["arm", "swing-frame", "torso"]
+    assert sorted(name for name, _ in m["holes"]) == ["part-arm", "part-frame-side-card", "part-torso"]
     assert all(inside for _, inside in m["holes"]), m["holes"]

@@ -1,9 +1,11 @@
 """``aero-env sheet``: from a config to what to cut.
 
-    aero-env sheet CONFIG --out DIR|FILE.md|FILE.svg [--draws N] [--seed S] [--set KEY=VALUE ...]
+    aero-env sheet CONFIG --out DIR|FILE.md|FILE.svg|FILE.json [--draws N] [--seed S] [--set KEY=VALUE ...]
 
-A folder: both, as ``DIR/sheet.md`` and ``DIR/template.svg`` (the folder is made if missing; an
-earlier sheet in it is written over, as a file would be). ``.md``: every part in mm and g (and 1-yen coins), the card pair that gives the friction, where
+A folder: all three, as ``DIR/sheet.md``, ``DIR/template.svg`` and ``DIR/parts.json`` (the folder is
+made if missing; an earlier sheet in it is written over, as a file would be). ``.json``: every piece
+of the kit (``aero_env/parts/kit.py``): how many to cut, its layers and card, what is added to it,
+its mass, and the model field it makes up. ``.md``: every part in mm and g (and 1-yen coins), the card pair that gives the friction, where
 the counterbalance goes, the spring as the paper measures it, whether the design completes its
 row, and its robustness: the share of hand-made builds (``aero-env robustness``'s tolerances)
 that still complete it. ``.svg``: the template to print and cut (``template.py``): every part at 1:1 and the stand to
@@ -21,13 +23,13 @@ from ..scene_args import add_seed
 
 DEFAULT_DRAWS = 50
 DEFAULT_SEED = 0
-FORMATS = (".md", ".svg")
+FORMATS = (".md", ".svg", ".json")
 
 
 def register(sub, scene_command) -> None:
     sp = scene_command(sub, "sheet", "a build sheet (.md) and a 1:1 cutting template (.svg) for a design")
-    sp.add_argument("--out", required=True, metavar="DIR|FILE.md|FILE.svg",
-                    help="a folder for both (sheet.md, template.svg), or one file")
+    sp.add_argument("--out", required=True, metavar="DIR|FILE.md|FILE.svg|FILE.json",
+                    help="a folder for all three (sheet.md, template.svg, parts.json), or one file")
     sp.add_argument("--draws", type=int, default=DEFAULT_DRAWS,
                     help=f"hand-made builds drawn for the robustness line of a .md sheet; 0 skips it "
                          f"(default {DEFAULT_DRAWS})")
@@ -39,7 +41,7 @@ def register(sub, scene_command) -> None:
     sp.set_defaults(func=cmd_sheet)
 
 
-SHEET_NAME, TEMPLATE_NAME = "sheet.md", "template.svg"
+SHEET_NAME, TEMPLATE_NAME, PARTS_NAME = "sheet.md", "template.svg", "parts.json"
 
 
 def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str | None = None,
@@ -55,8 +57,8 @@ def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str
     return "\n".join([f"# Build sheet: {config_name}", "", verdict, "", robustness_line(cfg, config_name, draws, seed, progress, compare),
                       "",
                       *rows, "",
-                      "Lengths are measured along the card; the model is 2D and sets no width but the spring "
-                      "strip's. The friction pair is the paper's Table 3 (JIS K7125, 0.4 mm 310 g/m² card). "
+                      "Lengths are measured along the card. The model is 2D: a part's width across follows from "
+                      "its mass (aero_env/parts/build.py says how each is built). The friction pair is the paper's Table 3 (JIS K7125, 0.4 mm 310 g/m² card). "
                       + (f"The template to print at 100 % is [{template}]({template})." if template else
                          "`aero-env sheet CONFIG --out DIR` writes this sheet with its template."), ""])
 
@@ -86,6 +88,14 @@ def robustness_line(cfg: Config, config_name: str, draws: int, seed: int, progre
     name, other = compare
     j = completed(other, "sheet: robustness of --compare")
     return line + f" The same {draws} builds of {name}: **{j} of {draws}** ({100 * j / draws:.0f} %)."
+
+
+def parts_text(cfg: Config, config_name: str) -> str:
+    import json
+
+    from ..parts.kit import parts_json
+
+    return json.dumps(parts_json(cfg, config_name), indent=2) + "\n"
 
 
 def cmd_sheet(args) -> int:
@@ -119,15 +129,17 @@ def cmd_sheet(args) -> int:
     # every text is made before the first file is written: a run stopped in the robustness builds (Ctrl-C, a
     # failure) leaves no template without its sheet
     if folder:
-        files = {out / TEMPLATE_NAME: svg(cfg),
+        files = {out / PARTS_NAME: parts_text(cfg, args.config), out / TEMPLATE_NAME: svg(cfg),
                  out / SHEET_NAME: markdown(cfg, args.config, args.draws, args.seed, TEMPLATE_NAME, progress, compare)}
         out.mkdir(parents=True, exist_ok=True)
     elif out.suffix == ".svg":
         files = {out: svg(cfg)}
+    elif out.suffix == ".json":
+        files = {out: parts_text(cfg, args.config)}
     else:
         files = {out: markdown(cfg, args.config, args.draws, args.seed, progress=progress, compare=compare)}
     for path, text in files.items():
         path.write_text(text)
-    written = " and ".join(str(path) for path in reversed(files))
+    written = ", ".join(str(path) for path in reversed(files))
     print(f"wrote {written} in {time.perf_counter() - t0:.1f} s")
     return 0

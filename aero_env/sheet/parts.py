@@ -1,9 +1,9 @@
 """What a maker needs to build a design, read off its config: the parts in mm and g.
 
-Every value comes from the config (SI) and is converted here for the workbench only: lengths in
-mm, masses in g and in 1-yen coins (1.00 g each; the paper's robot carries four), the card pair
-whose measured friction (the paper's Table 3) is closest to the design's, and the spring as the
-paper measures it (N·mm/rad, and the torque when fully bent).
+Every value comes from the config (SI) and the kit's pieces (``aero_env/parts``) and is converted
+here for the workbench only: lengths in mm, masses in g, coins as whole one-yen coins (1.00 g each)
+and modelling clay, the card pair whose measured friction (the paper's Table 3) is closest to the
+design's, and the spring as the paper measures it (N·mm/rad, and the torque when fully bent).
 """
 
 from __future__ import annotations
@@ -12,10 +12,11 @@ import math
 from dataclasses import dataclass
 
 from ..config import Config
-from .card import PAPER_CARD, Card
-from .spring_strip import GLUE_TAB, bench_loads, linear_equivalent, plan_strip
+from ..parts.build import counterbalance_load, side_card
+from ..parts.card import PAPER_CARD, Card
+from ..parts.kit import pieces
+from ..parts.spring_strip import GLUE_TAB, bench_loads, linear_equivalent, plan_strip
 
-YEN_COIN_G = 1.0  # a 1-yen coin weighs 1.00 g (aluminium, 20 mm across)
 
 # Shinohara & Nishibori 2026, Table 3: JIS K7125 friction of the 0.4 mm, 310 g/m² card
 # (a white coated face and a gray uncoated back). The arm is card too: which faces touch is a choice.
@@ -39,8 +40,18 @@ def mm(x_m: float) -> str:
 
 
 def grams(x_kg: float) -> str:
-    g = x_kg * 1e3
-    return f"{g:.2f} g ({g / YEN_COIN_G:.1f} one-yen coins)"
+    return f"{x_kg * 1e3:.2f} g"
+
+
+def coins_and_clay(x_kg: float) -> str:
+    """A mass as whole one-yen coins and the modelling clay for the rest."""
+    load = counterbalance_load(x_kg)
+    coins, clay = int(load["coins"]), float(load["clay"])
+    return f"{coins} one-yen coin{'' if coins == 1 else 's'} + {clay * 1e3:.2f} g clay ({grams(x_kg)})"
+
+
+def laminate(piece) -> str:
+    return "one layer" if piece.layers == 1 else f"{piece.layers} layers glued flat"
 
 
 def card_pair(mu_s: float, mu_k: float) -> tuple[str, float]:
@@ -62,7 +73,7 @@ def spring_lines(cfg: Config, card: Card = PAPER_CARD) -> list[Line]:
     layers = f"{st.layers} strips stacked loose, each " if st.layers > 1 else ""
     checks = ", ".join(f"{g:.2f} g: {turn:.0f} deg" for g, turn in bench_loads(k, d.arm_length, bend)[::2])
     return [
-        Line("leaf spring", "strip to cut (0.4 mm card; the bending model of aero_env/sheet/card.py)",
+        Line("leaf spring", "strip to cut (0.4 mm card; the bending model of aero_env/parts/card.py)",
              f"{layers}{st.width * 1e3:.1f} mm wide, {st.free_length * 1e3:.1f} mm free between two "
              f"{GLUE_TAB * 1e3:.0f} mm glue tabs ({plan.cut_length * 1e3:.1f} mm cut)"),
         Line("leaf spring", "bench check (the paper's Fig. 18): load at the hook tip, pulling at right angles to "
@@ -82,23 +93,29 @@ def lines(cfg: Config) -> list[Line]:
     bend = math.radians(d.alpha_max_deg - d.alpha_min_deg)
     # the scene's spring law (physics/leaf_spring.py): linear k·da, or stiffening k/2·da²
     full_torque = d.spring_k * (bend if cfg.scene.effects.spring_law == "linear" else bend * bend / 2)
+    kit = {p.name: p for p in pieces(cfg)}
+    side, arm, torso = kit["swing frame side card"], kit["arm"], kit["torso"]
+    sc = side_card(d)
     return [
         Line("swing frame", "skewer hole to counterbalance (La)", mm(d.La)),
         Line("swing frame", "skewer hole to handrail seat (Lb)", mm(d.Lb)),
         Line("swing frame", "counterbalance offset across the frame line (h)", mm(d.h)),
-        Line("swing frame", "card of one frame (m1)", grams(d.m1)),
+        Line("swing frame", "its card (m1): two side cards, each", f"{grams(d.m1)}: {mm(sc['length'])} x "
+             f"{mm(sc['depth'])}, {laminate(side)}"),
         Line("swing frame", "rest angle (the stopper skewer holds it there) / end stop",
              f"{d.rest_angle_deg:.1f} deg / {d.stop_angle_deg:.1f} deg"),
-        Line("counterbalance", "mass at (La, h) (m3)", grams(d.m3)),
+        Line("counterbalance", "mass at (La, h) (m3)", coins_and_clay(d.m3)),
         Line("handrail", "an L of card: back leg / front leg", f"{mm(d.notch_back_face)} / {mm(d.notch_front_face)}"),
-        Line("handrail", "the L's bisector at rest, from the frame line / opening",
-             f"{d.notch_angle_deg:.1f} deg / {d.notch_opening_deg:.0f} deg"),
+        Line("handrail", "the L's bisector at rest: from the frame line / from the horizontal / opening",
+             f"{d.notch_angle_deg - d.rest_angle_deg:+.1f} deg / {d.notch_angle_deg:.1f} deg / "
+             f"{d.notch_opening_deg:.0f} deg"),
         Line("handrail", "its mass (counted in m2 by the paper, carried by the frame)", grams(d.handrail_mass)),
         Line("handrail + arm", "the card pair that gives the friction", pair_text),
         Line("robot", "whole robot, handrail included (m2)", grams(d.m2)),
-        Line("robot", "arm: axle hole to hook tip / mass", f"{mm(d.arm_length)} / {grams(d.arm_mass)}"),
-        Line("robot", "torso strip below the axle / its card (m2 less the parts listed here)",
-             f"{mm(d.torso_length)} / {grams(d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass)}"),
+        Line("robot", "arm: axle hole to hook tip / mass / card",
+             f"{mm(d.arm_length)} / {grams(d.arm_mass)} / {laminate(arm)}"),
+        Line("robot", "torso below the axle / its card (m2 less the parts listed here)",
+             f"{mm(d.torso_length)} / {grams(d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass)}, {laminate(torso)}"),
         Line("robot", "coins on the torso: total / centre from the axle",
              f"{grams(d.coin_mass)} / {mm(d.coin_offset)}"),
         Line("leaf spring", "stiffness as the paper measures it (torque per radian of bend from alpha_min)",

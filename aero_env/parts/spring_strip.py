@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from .card import PAPER_BEND_DEG, PROTOTYPE_STRIP, Card, Strip, strip_stiffness
 
 STRIP_WIDTH = 8e-3  # m: the width the template cuts the arm and torso (a maker's choice, not modelled)
-MIN_WIDTH = 2e-3  # m: the narrowest strip that survives scissors
+MIN_WIDTH = 3e-3  # m: the narrowest strip scissors cut cleanly (a narrower one tears or curls)
 MAX_LAYERS = 3
 GLUE_TAB = 5e-3  # m: card glued flat at each end of the strip
 G = 9.81

@@ -1,0 +1,165 @@
+"""How each part of the toy is built from card, and what that card weighs and where it sits.
+
+One description per part, read by both sides of the project: the physics takes each body's mass,
+centre and inertia from here (:mod:`aero_env.parts.bodies`), and the kit draws the same pieces at
+1:1 (:mod:`aero_env.parts.kit`). Every function takes a design (an ``aero_env.config.Design``, or
+any object with its fields, floats or numpy arrays of one length so the reduced model can build a
+batch with the same arithmetic) and returns SI values.
+
+**The constructions.** Table 1 gives each part's mass, and at the paper's 310 g/m² a single flat
+strip of a part's outline weighs a tenth of it (docs/make-your-own.md, "Why the parts are
+laminated"). The article's text gives no nets, so each build below is a stated choice, made so
+that the part as drawn weighs what Table 1 says:
+
+- **Swing frame** ("a hollow rectangular shape", the article's Sec. 2): two side cards, the
+  skewer through a hole in each, held apart by the handrail at one end and the counterbalance at
+  the other, hollow between them. Each side card is a rectangle of ``layers`` layers of card glued
+  flat, cut symmetric about its hole, so that it balances on the skewer by itself (the paper's
+  frame moment dT is 0; a dT a config names still moves the centre, as before). Its length runs
+  ``END`` past the farther of the seat and the counterbalance; its depth across the frame line is
+  what makes the two cards weigh m1, with the fewest layers that keep it at most
+  ``FRAME_DEPTH_MAX``.
+- **Handrail**: an L of one card folded along its length, its two legs the notch's faces, bridging
+  the side cards ``RAIL_SPAN`` apart, with a glue tab at each end onto the cards' inner faces. The
+  tabs are as long as the handrail's mass (0.21 g, Table 1) makes them.
+- **Counterbalance**: whole one-yen coins (1.00 g each) and modelling clay for the rest of m3,
+  pressed between the side cards with its centre on the counterbalance's mark (La, h). No card.
+- **Arm**: a plate of ``layers`` layers glued flat, its length along the arm from ``END`` behind
+  the axle hole to the hook, plus the ``HOOK_LIP`` folded into the hook (counted at the tip), its
+  width across the machine what makes it weigh the arm's mass, at most ``ARM_WIDTH_MAX`` so it
+  passes between the side cards. The model is 2D: a plate across the plane swings as a rod.
+- **Torso**: a plate of ``layers`` layers glued flat in the plane of the swing, from ``END``
+  above the axle hole to its bottom edge (Ld from the hook at alpha_max), its width what makes it
+  weigh the torso's card (m2 less the arm, the coins and the handrail), at most
+  ``TORSO_WIDTH_MAX``; the coins glued flat on its face, flush with its bottom.
+
+Holes are the skewer's and the axle's (``HOLE_D``): their card is taken off the mass and inertia.
+The leaf-spring strip (``spring_strip.py``, about 0.05 g) is drawn in the kit but is not in the
+model's masses: Table 1 does not list it.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from .card import PAPER_CARD
+
+Design = Any  # see aero_env.inertia: the config's checks read this module, so it does not import the config
+
+GRAMMAGE = PAPER_CARD.grammage  # kg/m², the paper's JOHOKU WB310g (Sec. 6)
+CARD_THICKNESS = PAPER_CARD.thickness
+YEN_COIN = 1.0e-3  # kg: a one-yen coin weighs 1.00 g (the paper's robot carries four)
+YEN_COIN_THICKNESS = 1.5e-3  # m
+CLAY_STEP = 1.0e-4  # kg: modelling clay, weighed to the 0.1 g a kitchen scale reads
+
+SKEWER_D = 2.0e-3  # m: a thin bamboo skewer for every axis, stopper and the robot's axle (a choice)
+HOLE_D = 2.4e-3  # m: a hole the skewer turns in freely (0.4 mm play; design.pivot_friction is its fit)
+END = 4.0e-3  # m: card beyond a hole or a mark at a part's end, so the hole sits inside the card
+HOOK_LIP = 3.0e-3  # m: the arm's tip folded 90 deg into the hook; the model sees only its contact edge
+RAIL_SPAN = 30.0e-3  # m: the side cards' spacing, the handrail's length between its glue tabs
+MIN_STRIP = 3.0e-3  # m: the narrowest strip scissors cut cleanly (the issue's 'about 3 mm')
+MIN_TAB = 3.0e-3  # m: the shortest glue tab that holds
+FRAME_DEPTH_MAX = 20.0e-3  # m: a side card's depth across the frame line, at most (then another layer)
+ARM_WIDTH_MAX = 26.0e-3  # m: the arm's width across, at most: it swings between side cards RAIL_SPAN apart
+TORSO_WIDTH_MAX = 26.0e-3  # m: the torso's width in the plane, at most (a coin is 20 mm across)
+
+
+def laminate(area, length, max_width):
+    """(layers, width): the fewest whole layers of a ``length``-long plate that carry ``area`` of card
+    with each layer at most ``max_width`` wide, and the width that then gives exactly ``area``."""
+    per_layer_max = length * max_width
+    layers = np.maximum(np.ceil(area / per_layer_max - 1e-9), 1.0)
+    return layers, area / (layers * length)
+
+
+def hole_area():
+    return math.pi * (HOLE_D / 2) ** 2
+
+
+# ---- the swing frame ------------------------------------------------------------------------------------------
+def side_card(d: Design) -> dict:
+    """One of a frame's two side cards: ``half_length`` (hole to each end), ``depth``, ``layers``, ``mass``
+    and ``I_axis`` (about the skewer, which is its centre). Both cards together weigh m1."""
+    half = np.maximum(d.La, d.Lb) + END
+    length = 2.0 * half
+    mass = d.m1 / 2.0
+    card = mass / GRAMMAGE  # m² of card over all layers, the hole's card already gone
+    layers, depth_hole = laminate(card, length, FRAME_DEPTH_MAX)
+    # each layer is length x depth less the hole: solve depth so that it carries card / layers exactly
+    depth = (card / layers + hole_area()) / length
+    sigma = GRAMMAGE * layers  # kg per m² of outline
+    I_axis = sigma * (length * depth * (length**2 + depth**2) / 12.0 - math.pi * (HOLE_D / 2) ** 4 / 2.0)
+    return dict(half_length=half, length=length, depth=depth, layers=layers, mass=mass, I_axis=I_axis)
+
+
+def frame_card_inertia(d: Design):
+    """The frame's card (both side cards, m1) about its axis, kg·m²: what the world swings as I1."""
+    return 2.0 * side_card(d)["I_axis"]
+
+
+def handrail_card(d: Design) -> dict:
+    """The handrail L: ``legs`` (its two faces, across its fold), ``tab`` (each end's glue tab), ``length``
+    (``RAIL_SPAN`` plus both tabs) and ``mass`` (design.handrail_mass when the tabs can make it)."""
+    legs = d.notch_back_face + d.notch_front_face
+    length = d.handrail_mass / GRAMMAGE / legs
+    tab = (length - RAIL_SPAN) / 2.0
+    return dict(legs=legs, tab=tab, length=length, mass=d.handrail_mass)
+
+
+def counterbalance_load(m3) -> dict:
+    """Whole one-yen coins and the clay for the rest of m3 (kg, unrounded: the design space's grid rounds it)."""
+    coins = np.floor(m3 / YEN_COIN + 1e-9)
+    return dict(coins=coins, clay=m3 - coins * YEN_COIN, mass=m3)
+
+
+# ---- the robot ---------------------------------------------------------------------------------------------------
+def arm_plate(d: Design) -> dict:
+    """The arm: ``layers``, ``width`` across, ``start`` (behind the axle, negative) and ``tip`` along the arm
+    from the axle, ``mass``, ``com`` (along the arm from the axle) and ``I_com`` (about its centre)."""
+    length = END + d.arm_length + HOOK_LIP  # the net, the lip unfolded
+    card = d.arm_mass / GRAMMAGE
+    layers, _ = laminate(card, length, ARM_WIDTH_MAX)
+    width = (card / layers + hole_area()) / length
+    sigma = GRAMMAGE * layers
+    # along the arm: the plate from -END to arm_length, the lip's card at the tip, less the hole at the axle
+    m_plate = sigma * width * (END + d.arm_length)
+    m_lip = sigma * width * HOOK_LIP
+    m_hole = sigma * hole_area()
+    mass = m_plate + m_lip - m_hole
+    x_plate = (d.arm_length - END) / 2.0
+    com = (m_plate * x_plate + m_lip * d.arm_length) / mass
+    I_com = (m_plate * ((END + d.arm_length) ** 2 / 12.0 + (x_plate - com) ** 2) + m_lip * (d.arm_length - com) ** 2
+             - m_hole * com**2)
+    return dict(layers=layers, width=width, start=-END, tip=d.arm_length, net_length=length, mass=mass,
+                com=com, I_com=I_com)
+
+
+def torso_card_mass(d: Design):
+    """The torso's card: Table 1's m2 less the arm, the coins and the handrail (which it counts)."""
+    return d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass
+
+
+def torso_plate(d: Design, torso_length) -> dict:
+    """The torso's card plate, ``torso_length`` (axle to bottom edge) given: ``layers``, ``width``, ``mass``,
+    ``com`` (below the axle) and ``I_com`` (about its own centre, in the plane)."""
+    length = END + torso_length
+    card = torso_card_mass(d) / GRAMMAGE
+    layers, _ = laminate(card, length, TORSO_WIDTH_MAX)
+    width = (card / layers + hole_area()) / length
+    sigma = GRAMMAGE * layers
+    m_full = sigma * width * length
+    m_hole = sigma * hole_area()
+    mass = m_full - m_hole
+    y_full = (torso_length - END) / 2.0  # below the axle
+    com = m_full * y_full / mass  # the hole sits at the axle (0)
+    I_com = (m_full * ((length**2 + width**2) / 12.0 + (y_full - com) ** 2)
+             - m_hole * ((HOLE_D / 2) ** 2 / 2.0 + com**2))
+    return dict(layers=layers, width=width, length=length, mass=mass, com=com, I_com=I_com)
+
+
+def coin_stack(d: Design) -> dict:
+    """The torso's coins: how many one-yen coins design.coin_mass is (not rounded here)."""
+    return dict(coins=d.coin_mass / YEN_COIN, mass=d.coin_mass)

@@ -1,0 +1,238 @@
+"""The kit: every piece a maker cuts for a design, as drawn shapes (mm) and as what it weighs.
+
+:func:`pieces` turns a config into :class:`Piece`s, each drawn from :mod:`aero_env.parts.build`'s
+dimensions (the same numbers the physics swings), and :func:`parts_json` lists them for
+``parts.json``. The template (``aero_env/sheet/template.py``) only renders these shapes: ``cut``
+outlines (holes included), ``fold`` lines, and ``mark``s that are neither (where a coin or the
+handrail goes). A piece's card is its cut outline less its holes, times its layers, times the
+card's grammage; its mass adds what is glued or pressed onto it (``added``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from . import build
+from .card import PAPER_CARD, Card
+from .spring_strip import GLUE_TAB, linear_equivalent, plan_strip
+
+MM = 1e3  # the kit draws in mm; build.py is SI
+
+
+@dataclass(frozen=True)
+class Shape:
+    """One drawn element in the piece's own mm coordinates (y down): ``rect`` (x, y, w, h), ``circle``
+    (cx, cy, r), ``line`` (x1, y1, x2, y2) or ``polyline`` (x1, y1, x2, y2, ...); ``kind`` cut, fold or mark."""
+    tag: str
+    kind: str
+    xy: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class Piece:
+    name: str
+    id: str  # its SVG group's id, "part-..."
+    count: int  # pieces in the kit (each of ``layers`` layers)
+    layers: int
+    card_area_m2: float  # one layer's card: the cut outline less its holes
+    added: tuple[tuple[str, float], ...]  # (what, kg) glued or pressed onto it
+    sets: str  # the model field it makes up
+    per_unit: int  # how many pieces make one of that field
+    part_of: tuple[str, ...]  # other fields it is counted in (Table 1 counts the handrail in m2)
+    caption: tuple[str, ...]
+    shapes: tuple[Shape, ...] = field(default=())
+    grammage: float = build.GRAMMAGE
+
+    def __post_init__(self):  # plain floats and ints, whatever arrays build.py computed them with
+        object.__setattr__(self, "card_area_m2", float(self.card_area_m2))
+        object.__setattr__(self, "added", tuple((w, float(kg)) for w, kg in self.added))
+
+    @property
+    def mass_kg(self) -> float:
+        return self.card_area_m2 * self.layers * self.grammage + sum(kg for _, kg in self.added)
+
+    def json(self) -> dict:
+        return dict(name=self.name, id=self.id, count=self.count, layers=self.layers,
+                    grammage_kg_m2=self.grammage, card_area_m2=self.card_area_m2,
+                    added=[dict(what=w, mass_kg=kg) for w, kg in self.added], mass_kg=self.mass_kg,
+                    sets=self.sets, per_unit=self.per_unit, part_of=list(self.part_of))
+
+
+def _rect(x, y, w, h, kind="cut") -> Shape:
+    return Shape("rect", kind, (x, y, w, h))
+
+
+def _circle(x, y, r, kind="cut") -> Shape:
+    return Shape("circle", kind, (x, y, r))
+
+
+def _line(x1, y1, x2, y2, kind="fold") -> Shape:
+    return Shape("line", kind, (x1, y1, x2, y2))
+
+
+def _cross(x, y, s=1.5) -> list[Shape]:
+    return [_line(x - s, y - s, x + s, y + s, "mark"), _line(x - s, y + s, x + s, y - s, "mark")]
+
+
+HOLE_R = build.HOLE_D * MM / 2
+HOLE_TEXT = (f"Hole Ø{build.HOLE_D * MM:.1f} mm (punch or drill): a Ø{build.SKEWER_D * MM:.0f} mm bamboo skewer "
+             f"turns in it")
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}{'' if n == 1 else 's'}"
+
+
+def _layers_text(n: int) -> str:
+    return "one layer" if n == 1 else f"{n} layers glued flat"
+
+
+def side_card(cfg) -> Piece:
+    d, frames = cfg.design, cfg.scene.frames
+    sc = build.side_card(d)
+    n, L, D, half = int(sc["layers"]), sc["length"] * MM, sc["depth"] * MM, sc["half_length"] * MM
+    seat, cb, h = half - d.Lb * MM, half + d.La * MM, d.h * MM
+    shapes = [_rect(0, -D / 2, L, D), _circle(half, 0, HOLE_R),
+              _line(seat, -D / 2, seat, D / 2, "mark"), *_cross(cb, -h)]
+    area = (L * D - math.pi * HOLE_R**2) / MM**2
+    return Piece(
+        "swing frame side card", "part-frame-side-card", 2 * frames, n, area, (), "design.m1", 2, (),
+        (f"SWING FRAME SIDE CARD: {_plural(2 * frames, 'card')} ({2 * frames * n} cuts): 2 per frame, each "
+         f"{_layers_text(n)}; {L:.1f} x {D:.1f} mm.",
+         f"{HOLE_TEXT} (the frame's axis). Red line: the handrail's seat, Lb = {d.Lb * MM:.1f} mm from the hole.",
+         f"Red cross: the counterbalance's centre, La = {d.La * MM:.1f} mm along and h = {h:+.1f} mm across "
+         f"(above the line when the seat is on the left)."),
+        tuple(shapes))
+
+
+def handrail(cfg) -> Piece:
+    d, frames = cfg.design, cfg.scene.frames
+    hr = build.handrail_card(d)
+    back, front, tab, length = d.notch_back_face * MM, d.notch_front_face * MM, hr["tab"] * MM, hr["length"] * MM
+    span = build.RAIL_SPAN * MM
+    legs = back + front
+    shapes = [_rect(0, 0, length, legs), _line(0, back, length, back)]
+    if tab > 0:
+        shapes += [_line(tab, 0, tab, legs), _line(tab + span, 0, tab + span, legs)]
+    # beside it, the L's end view on the frame line at 1:1 (frame-local, the frame line horizontal)
+    x0, y0 = length + 12.0, legs / 2
+    tilt = math.radians(d.notch_angle_deg - d.rest_angle_deg)
+    half = math.radians(d.notch_opening_deg) / 2
+    n_back, n_front = (math.cos(tilt - half), math.sin(tilt - half)), (math.cos(tilt + half), math.sin(tilt + half))
+    ends = [(x0 + n_front[0] * back, y0 - n_front[1] * back), (x0 + n_back[0] * front, y0 - n_back[1] * front)]
+    shapes += [_line(x0 - 4, y0, x0 + 14, y0, "mark"), _line(x0, y0, *ends[0], "mark"),
+               _line(x0, y0, *ends[1], "mark")]
+    tab_text = (f"fold the {tab:.1f} mm tab at each end 90 deg and glue it inside a side card" if tab >= build.MIN_TAB
+                * MM else f"its end tabs come out {tab:.1f} mm, shorter than the {build.MIN_TAB * MM:.0f} mm a glue "
+                f"joint needs: design.handrail_mass is lighter than this L of card")
+    return Piece(
+        "handrail", "part-handrail", frames, 1, length * legs / MM**2, (), "design.handrail_mass", 1, ("design.m2",),
+        (f"HANDRAIL: {_plural(frames, 'piece')}, 1 per frame, {length:.1f} x {legs:.1f} mm. Fold the long dashed line "
+         f"to an L of {d.notch_opening_deg:.0f} deg:",
+         f"back leg {back:.1f} mm, front leg {front:.1f} mm; {tab_text}, the L {span:.0f} mm between the cards.",
+         f"Right: its end view at 1:1 on the frame line (horizontal), corner on the seat, the L's bisector "
+         f"{math.degrees(tilt):+.1f} deg from the line."),
+        tuple(shapes))
+
+
+def counterbalance(cfg) -> Piece:
+    d, frames = cfg.design, cfg.scene.frames
+    load = build.counterbalance_load(d.m3)
+    coins, clay = int(load["coins"]), float(load["clay"])
+    r = 10.0
+    added = ((f"{_plural(coins, 'one-yen coin')}", coins * build.YEN_COIN),) if coins else ()
+    added += (("modelling clay", clay),) if clay > 0 else ()
+    return Piece(
+        "counterbalance", "part-counterbalance", frames, 0, 0.0, added, "design.m3", 1, (),
+        (f"COUNTERBALANCE: {frames}, 1 per frame, no card: {_plural(coins, 'one-yen coin')} and {clay * 1e3:.2f} g of "
+         f"modelling clay ({d.m3 * 1e3:.2f} g),",
+         "pressed between the side cards, centred on the red cross (the circle: a coin's size, not a cut)."),
+        (_circle(r, 0, r, "mark"), *_cross(r, 0)))
+
+
+def arm(cfg) -> Piece:
+    d = cfg.design
+    a = build.arm_plate(d)
+    n, w, length = int(a["layers"]), a["width"] * MM, a["net_length"] * MM
+    end, tip = build.END * MM, build.END * MM + d.arm_length * MM
+    return Piece(
+        "arm", "part-arm", 1, n, (length * w - math.pi * HOLE_R**2) / MM**2, (), "design.arm_mass", 1, ("design.m2",),
+        (f"ARM: 1, {_layers_text(n)}; {length:.1f} x {w:.1f} mm. {HOLE_TEXT} (the robot's axle, through the torso).",
+         f"Hole to the dashed fold: {d.arm_length * MM:.1f} mm; fold the {build.HOOK_LIP * MM:.0f} mm lip 90 deg into "
+         f"the hook that hooks the handrail's L ({d.arm_mass * 1e3:.2f} g)."),
+        (_rect(0, 0, length, w), _circle(end, w / 2, HOLE_R), _line(tip, 0, tip, w)))
+
+
+def torso(cfg) -> Piece:
+    d = cfg.design
+    t = build.torso_plate(d, d.torso_length)
+    n, w, length = int(t["layers"]), t["width"] * MM, t["length"] * MM
+    end, coin_at, r = build.END * MM, d.coin_offset * MM, d.coin_radius * MM
+    coins = d.coin_mass / build.YEN_COIN
+    coins_text = f"{coins:.0f} one-yen coins" if abs(coins - round(coins)) < 1e-6 else f"{d.coin_mass * 1e3:.2f} g of coins"
+    return Piece(
+        "torso", "part-torso", 1, n, (length * w - math.pi * HOLE_R**2) / MM**2, ((coins_text, d.coin_mass),),
+        "design.m2", 1, (),
+        (f"TORSO: 1, {_layers_text(n)}; {length:.1f} x {w:.1f} mm. {HOLE_TEXT} (the axle).",
+         f"Hole to the bottom edge: {d.torso_length * MM:.1f} mm (Ld = {d.Ld * MM:.0f} mm from the hook with the arm at "
+         f"{d.alpha_max_deg:.0f} deg). Glue the {coins_text} in the gray circle, flush with the bottom."),
+        (_rect(0, 0, length, w), _circle(end, w / 2, HOLE_R), _circle(end + coin_at, w / 2, r, "mark")))
+
+
+def _spring_plan(cfg, card: Card):
+    d = cfg.design
+    bend = math.radians(d.alpha_max_deg - d.alpha_min_deg)
+    return plan_strip(linear_equivalent(d.spring_k, cfg.scene.effects.spring_law, bend), card, d.arm_length, bend)
+
+
+def no_spring(cfg, card: Card = PAPER_CARD) -> str:
+    """Why no strip of ``card`` makes the design's spring, or "" when one does."""
+    return _spring_plan(cfg, card).why_not
+
+
+def spring(cfg, card: Card = PAPER_CARD) -> Piece | None:
+    d = cfg.design
+    plan = _spring_plan(cfg, card)
+    if plan.strip is None:
+        return None
+    w, free, tab = plan.strip.width * MM, plan.strip.free_length * MM, GLUE_TAB * MM
+    n = plan.strip.layers
+    length = free + 2 * tab
+    shapes = (_rect(0, 0, length, w), _line(tab, 0, tab, w), _line(tab + free, 0, tab + free, w))
+    return Piece(
+        "leaf spring", "part-leaf-spring", n, 1, length * w / MM**2, (), "design.spring_k", n, (),
+        (f"LEAF SPRING: cut {_plural(n, 'strip')} {w:.1f} mm wide, {free:.1f} mm free between two {tab:.0f} mm glue "
+         f"tabs{' (stacked loose, not glued to each other)' if n > 1 else ''}.",
+         f"Fold the tabs; glue one to the torso and one to the arm, straight with the arm at {d.alpha_min_deg:.0f} deg "
+         f"({plan.stiffness * 1e3:.3f} N·mm/rad)."),
+        shapes)
+
+
+def pieces(cfg, card: Card = PAPER_CARD) -> list[Piece]:
+    """Every piece of the kit, in the order of work."""
+    out = [side_card(cfg), handrail(cfg), counterbalance(cfg), torso(cfg), arm(cfg)]
+    strip = spring(cfg, card)
+    return out + ([strip] if strip is not None else [])
+
+
+MASS_FIELDS = ("design.m1", "design.m2", "design.m3", "design.arm_mass", "design.handrail_mass")
+
+
+def field_masses(ps: list[Piece]) -> dict[str, float]:
+    """What the pieces make of each mass field: the sum over the pieces that set it (or are part of it) of
+    their mass times ``per_unit`` (that many of the piece make one of the field)."""
+    out: dict[str, float] = {}
+    for p in ps:
+        for key in (p.sets, *p.part_of):
+            if key in MASS_FIELDS:
+                out[key] = out.get(key, 0.0) + p.mass_kg * p.per_unit
+    return out
+
+
+def parts_json(cfg, config_name: str = "") -> dict:
+    ps = pieces(cfg)
+    made = field_masses(ps)
+    return dict(config=config_name, grammage_kg_m2=build.GRAMMAGE, card_thickness_m=build.CARD_THICKNESS,
+                parts=[p.json() for p in ps],
+                fields={k: dict(config=float(cfg.value(k)), parts=float(v)) for k, v in made.items()})

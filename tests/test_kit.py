@@ -1,0 +1,124 @@
+"""The kit (``aero-env sheet CONFIG --out DIR``'s template.svg and parts.json), read back independently.
+
+The card of each piece is measured here on the SVG's own cut outlines, by geometry written out in
+this file (a rectangle's w·h, a circle's pi·r², a polygon's shoelace; an outline inside another is a
+hole), never by the code that draws them. That area, times the piece's layers and the card's
+grammage, plus what parts.json says is added to it, must be its mass; and the pieces that make up a
+model field must add up to the config's value. For the prototype and every stored scene solution.
+"""
+
+import json
+import math
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from aero_env.cli import main
+from aero_env.config import load_config
+
+ROOT = Path(__file__).resolve().parents[1]
+SVG = "{http://www.w3.org/2000/svg}"
+CONFIGS = [ROOT / "configs/paper.yaml", *sorted((ROOT / "configs/scenes/solutions").glob("*.yaml"))]
+GRAMMAGE = 0.310  # kg/m²: the paper's card, JOHOKU WB310g (Sec. 6), written out here
+
+
+def _outline(el) -> tuple[float, tuple[float, float, float, float]]:
+    """(area mm², bounding box) of one cut element."""
+    tag = el.tag.removeprefix(SVG)
+    f = lambda k: float(el.get(k))  # noqa: E731
+    if tag == "rect":
+        x, y, w, h = f("x"), f("y"), f("width"), f("height")
+        return w * h, (x, y, x + w, y + h)
+    if tag == "circle":
+        cx, cy, r = f("cx"), f("cy"), f("r")
+        return math.pi * r * r, (cx - r, cy - r, cx + r, cy + r)
+    if tag == "polygon":
+        pts = [tuple(map(float, p.split(","))) for p in el.get("points").split()]
+        a = 0.5 * abs(sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1])))
+        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+        return a, (min(xs), min(ys), max(xs), max(ys))
+    raise AssertionError(f"a cut {tag} this test cannot measure")
+
+
+def _inside(a, b) -> bool:
+    return a[0] >= b[0] and a[1] >= b[1] and a[2] <= b[2] and a[3] <= b[3] and a != b
+
+
+def card_areas(svg_path) -> dict[str, float]:
+    """Each ``part-`` group's card in m²: its cut outlines less the outlines inside them (holes). Translations
+    do not change an area, and the kit draws at 1:1 with no scaling (checked)."""
+    root = ET.parse(svg_path).getroot()
+    out = {}
+    for g in root.iter(SVG + "g"):
+        if not (g.get("id") or "").startswith("part-"):
+            continue
+        for sub in g.iter():
+            assert "scale" not in (sub.get("transform") or ""), "a part drawn at other than 1:1"
+        cuts = [_outline(el) for el in g.iter() if el.get("class") == "cut"]
+        area = 0.0
+        for a, box in cuts:
+            hole = any(_inside(box, other) for _, other in cuts)
+            area += -a if hole else a
+        out[g.get("id")] = area * 1e-6
+    return out
+
+
+@pytest.fixture(scope="module", params=CONFIGS, ids=lambda p: p.stem)
+def kit(request, tmp_path_factory):
+    d = tmp_path_factory.mktemp(request.param.stem)
+    assert main(["sheet", str(request.param), "--out", str(d / "template.svg")]) == 0
+    assert main(["sheet", str(request.param), "--out", str(d / "parts.json")]) == 0
+    return request.param, d / "template.svg", json.loads((d / "parts.json").read_text())
+
+
+def test_every_piece_weighs_its_card_as_drawn_plus_what_is_added(kit):
+    _, svg, parts = kit
+    areas = card_areas(svg)
+    assert sorted(areas) == sorted(p["id"] for p in parts["parts"])
+    for p in parts["parts"]:
+        assert p["grammage_kg_m2"] == GRAMMAGE
+        card = areas[p["id"]] * p["layers"] * p["grammage_kg_m2"]
+        added = sum(a["mass_kg"] for a in p["added"])
+        assert card + added == pytest.approx(p["mass_kg"], rel=0.03), p["name"]
+
+
+def test_the_pieces_add_up_to_the_models_masses(kit):
+    path, _, parts = kit
+    cfg = load_config(path)
+    made: dict[str, float] = {}
+    for p in parts["parts"]:
+        for key in [p["sets"], *p.get("part_of", [])]:
+            made[key] = made.get(key, 0.0) + p["mass_kg"] * p["per_unit"]
+    assert {"design.m1", "design.m3", "design.arm_mass", "design.m2", "design.handrail_mass"} <= set(made)
+    for key in ("design.m1", "design.m2", "design.m3", "design.arm_mass", "design.handrail_mass"):
+        assert made[key] == pytest.approx(cfg.value(key), rel=0.03), key
+
+
+def test_the_prototype_reaches_table_1_part_by_part():
+    """Table 1 (and its text): frame 4 g, arm 1.5 g, torso 2 g, coins 4 g, counterbalance 7.2 g, handrail 0.21 g."""
+    from aero_env.parts.kit import pieces
+
+    by = {p.name: p for p in pieces(load_config(ROOT / "configs/paper.yaml"))}
+    assert 2 * by["swing frame side card"].mass_kg == pytest.approx(4.0e-3, rel=0.03)
+    assert by["arm"].mass_kg == pytest.approx(1.5e-3, rel=0.03)
+    torso = by["torso"]
+    assert torso.card_area_m2 * torso.layers * GRAMMAGE == pytest.approx(2.0e-3, rel=0.03)
+    assert sum(kg for _, kg in torso.added) == pytest.approx(4.0e-3, rel=0.03)
+    assert by["counterbalance"].mass_kg == pytest.approx(7.2e-3, rel=0.03)
+    assert by["handrail"].mass_kg == pytest.approx(0.21e-3, rel=0.03)
+
+
+def test_the_template_is_in_mm_and_marks_cuts_and_folds_by_class(kit):
+    _, svg, _ = kit
+    root = ET.parse(svg).getroot()
+    w, h = root.get("width"), root.get("height")
+    assert w.endswith("mm") and h.endswith("mm")
+    assert root.get("viewBox").split() == ["0", "0", w.removesuffix("mm"), h.removesuffix("mm")]
+    for g in root.iter(SVG + "g"):
+        if (g.get("id") or "").startswith("part-"):
+            drawn = [el for el in g.iter() if el.tag.removeprefix(SVG) in ("rect", "circle", "line", "polygon")]
+            assert all(el.get("class") in ("cut", "fold", "mark") for el in drawn), g.get("id")
+            # a plotter tells the layers apart by colour: every cut one colour, every fold another
+            assert len({el.get("stroke") for el in drawn if el.get("class") == "cut"}) <= 1
+            assert {el.get("stroke") for el in drawn if el.get("class") == "fold"} <= {"#0000ff"}
