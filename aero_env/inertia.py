@@ -15,15 +15,21 @@ Design = Any
 def frame_inertia(d: Design, convention: str = "consistent") -> float:
     """I1, the swing frame's own moment of inertia about its axis (kg·m²).
 
-    ``consistent``: 2·m1/3·(La² + Lb² - La·Lb), the frame alone. ``paper``: A13 as printed,
-    which adds I3 although the two-link eta1 already holds the counterbalance.
+    ``consistent``: 2·m1/3·(La² + Lb² - La·Lb), A13's frame alone. ``paper``: A13 as printed,
+    which adds I3 although the two-link eta1 already holds the counterbalance. ``parts``: the two
+    side cards as the kit builds them (:func:`aero_env.parts.build.frame_card_inertia`), what the
+    pymunk world and the reduced model swing.
     """
+    if convention == "parts":
+        from .parts.build import frame_card_inertia
+
+        return frame_card_inertia(d)
     i1 = 2.0 * d.m1 / 3.0 * (d.La**2 + d.Lb**2 - d.La * d.Lb)
     if convention == "consistent":
         return i1
     if convention == "paper":
         return i1 + counterbalance_inertia(d)
-    raise ValueError(f"inertia convention {convention!r}: must be 'consistent' or 'paper'")
+    raise ValueError(f"inertia convention {convention!r}: must be 'consistent', 'paper' or 'parts'")
 
 
 def robot_inertia(d: Design) -> float:
@@ -76,15 +82,15 @@ def min_Ld(arm_length, alpha_max_deg, coin_radius):
     return hook_to_torso_bottom(2.0 * coin_radius, arm_length, alpha_max_deg)
 
 
-def part_layout(arm_length, torso_com, m_arm, m_torso, alpha):
-    """Torso-frame positions (axle at the origin, torso along -y) of the hook, the arm's centre, the
-    torso's centre and the robot's centre of mass at arm angle ``alpha`` (rad): the interior angle at
-    the axle between torso and arm (alpha_min: spring straight; 180 deg: a straight robot). Any
-    consistent units; floats or numpy arrays."""
+def part_layout(arm_length, torso_com, m_arm, m_torso, alpha, arm_com):
+    """Torso-frame positions (axle at the origin, torso along -y) of the hook, the arm's centre (``arm_com``
+    from the axle along the arm), the torso's centre and the robot's centre of mass at arm angle ``alpha``
+    (rad): the interior angle at the axle between torso and arm (alpha_min: spring straight; 180 deg: a
+    straight robot). Any consistent units; floats or numpy arrays."""
     import numpy as np
 
     hook = (arm_length * np.sin(alpha), -arm_length * np.cos(alpha))
-    arm_c = (0.5 * hook[0], 0.5 * hook[1])
+    arm_c = (arm_com / arm_length * hook[0], arm_com / arm_length * hook[1])
     torso_c = (0.0 * hook[0], -torso_com + 0.0 * hook[1])
     m = m_arm + m_torso
     com = ((m_arm * arm_c[0] + m_torso * torso_c[0]) / m, (m_arm * arm_c[1] + m_torso * torso_c[1]) / m)
@@ -92,9 +98,10 @@ def part_layout(arm_length, torso_com, m_arm, m_torso, alpha):
 
 
 class RobotParts:
-    """The robot as a hand-made toy is built, in SI: a card torso strip hanging from the axle, its
-    bottom Table 1's Ld from the hook with the arm fully bent, with the coins on it
-    (:func:`torso_build`), and the arm, a uniform rod from the axle to the hook. The handrail's card,
+    """The robot as the kit builds it (:mod:`aero_env.parts.build`), in SI: the torso, a laminated card
+    plate hanging from the axle with its bottom Table 1's Ld from the hook with the arm fully bent
+    (:func:`torso_build`), with the coins glued flat on it, flush with its bottom; and the arm, a
+    laminated plate from behind the axle to the hook, its lip folded at the tip. The handrail's card,
     which Table 1 counts in m2, belongs to the frame and is not part of the robot.
 
     Every attribute is a plain float (or a numpy array when the design's fields are arrays, so the
@@ -102,24 +109,27 @@ class RobotParts:
     """
 
     def __init__(self, d):
-        self.m_arm = d.arm_mass
+        from .parts.build import arm_plate, torso_plate
+
+        self.arm_length = d.arm_length
+        # torso: its bottom Ld from the hook at alpha_max; the coins (discs in the plane) flush with its bottom
+        self.torso_length, self.coin_offset = torso_build(d.Ld, d.arm_length, d.alpha_max_deg, d.coin_radius)
+        plate, arm = torso_plate(d, self.torso_length), arm_plate(d)
+        self.m_arm = arm["mass"]  # = design.arm_mass
+        self.arm_com = arm["com"]  # from the axle along the arm
+        self.I_arm = arm["I_com"]  # about the arm's own centre
         self.m_coins = d.coin_mass
-        self.m_card = d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass  # the torso card: the rest of m2
+        self.m_card = plate["mass"]  # the torso card: m2 less the arm, the coins and the handrail
         self.m_torso = self.m_card + self.m_coins
         self.mass = self.m_torso + self.m_arm
-        self.arm_length = d.arm_length
-        # torso: card strip from the axle down, its bottom Ld from the hook at alpha_max; the coins (discs)
-        # glued flush with its bottom
-        self.torso_length, self.coin_offset = torso_build(d.Ld, d.arm_length, d.alpha_max_deg, d.coin_radius)
-        T, c = self.torso_length, self.coin_offset
-        self.torso_com = (self.m_card * 0.5 * T + self.m_coins * c) / self.m_torso
-        self.I_torso = (self.m_card * (T**2 / 12.0 + (0.5 * T - self.torso_com) ** 2)
+        c = self.coin_offset
+        self.torso_com = (self.m_card * plate["com"] + self.m_coins * c) / self.m_torso
+        self.I_torso = (plate["I_com"] + self.m_card * (plate["com"] - self.torso_com) ** 2
                         + self.m_coins * (0.5 * d.coin_radius**2 + (c - self.torso_com) ** 2))
-        self.I_arm = self.m_arm * d.arm_length**2 / 12.0  # about the arm's own centre
 
     def layout(self, alpha):
         """:func:`part_layout` of these parts."""
-        return part_layout(self.arm_length, self.torso_com, self.m_arm, self.m_torso, alpha)
+        return part_layout(self.arm_length, self.torso_com, self.m_arm, self.m_torso, alpha, self.arm_com)
 
     def rigid(self, alpha):
         """(hook-to-centre distance, inertia about the centre of mass) of the robot held rigid at

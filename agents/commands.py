@@ -155,7 +155,7 @@ def cmd_tune(args) -> int:
     if args.json:
         print(json.dumps({**result.to_json_dict(), "out": str(out), "plot": str(plot)}, indent=2))
     else:
-        print("\n".join(summary_lines(result)))
+        print("\n".join(summary_lines(result, cfg)))
         print(f"wrote best design: {out}\nwrote history plot: {plot}")
     return 0
 

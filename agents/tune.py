@@ -334,7 +334,16 @@ def comparison_line(result: TuneResult) -> str | None:
     return f"{best} vs {own}: {verdict}"
 
 
-def summary_lines(result: TuneResult) -> list[str]:
+def _design_line(key: str, value: float, cfg: Config | None) -> str:
+    """One tuned value, SI as the config stores it, and as a maker reads it (mm, g, coins and clay, card pair)."""
+    from aero_env.sheet.parts import workbench
+
+    reading = workbench(key, value, cfg) if cfg is not None else ""
+    return f"  {key} = {value:.6g}" + (f"   ({reading})" if reading else "")
+
+
+def summary_lines(result: TuneResult, cfg: Config | None = None) -> list[str]:
+    """The tune's report; with the tuned ``cfg``, each best value also as a maker reads it."""
     first = ("no trial traversed the whole row" if result.first_full_row_trial is None
              else f"the whole row first at trial {result.first_full_row_trial}")
     if (result.first_full_row_trial is None and result.start_trial is not None
@@ -349,7 +358,7 @@ def summary_lines(result: TuneResult) -> list[str]:
     if compared:
         lines.append(compared)
     lines.append("best design:")
-    lines += [f"  {k} = {v:.6g}" for k, v in result.best_design.items()]
+    lines += [_design_line(k, v, cfg) for k, v in result.best_design.items()]
     if result.screen:
         s = result.screen
         lines.insert(1, f"screened {s['designs']} designs at fidelity {s['fidelity']} in {s['wall_time']:.1f} s "

@@ -172,18 +172,20 @@ def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_ch
 @pytest.mark.slow
 def test_step_agreement_near_a_design_runs_the_designs_bench_accuracy_draws_there():
     # --near draws around the config's design, as bench accuracy --near does: the reference's counts are those of
-    # draw_designs' near sample run here at the reference. At ±0.2 the three designs of seed 4 count 0, 1 and 2
-    # traversals, so the counts tell this sample from others: the same seed at the default ±0.1 counts 0, 7, 3, at
-    # ±0.05 all three complete (7, 7, 7), uniform draws fail at once (0, 0, 0), seeds 3 and 5 at ±0.2 give 0, 0, 7
-    # and 0, 0, 0 (measured at the reference), and the designs in another order give another list.
+    # draw_designs' near sample run here at the reference. At ±0.2 the three designs of seed 13 count 0, 1 and 7
+    # traversals, so the counts tell this sample from others: the same seed at the default ±0.1 counts 7, 1, 7, at
+    # ±0.05 all three complete (7, 7, 7), uniform draws count 0, 0, 2, seeds 12 and 15 at ±0.2 give 0, 0, 0 and
+    # 0, 0, 1 (measured at the reference on the parts-built robot), and the designs in another order give another
+    # list. Seed 13 is the first of seeds 0-15 at ±0.2 whose three counts differ (seed 4, the earlier pick, now
+    # counts 0, 1, 1; seed 14 gives 7, 4, 0).
     from aero_env.bench.designs import draw_designs
     from aero_env.config import load_config
     from aero_env.simulation import simulate
 
-    r = _bench("step_agreement.py", PAPER, "--designs", "3", "--seed", "4", "--near", PAPER, "--spread", "0.2",
+    r = _bench("step_agreement.py", PAPER, "--designs", "3", "--seed", "13", "--near", PAPER, "--spread", "0.2",
                "--settings", "0.5/30", "--jobs", "2", "--json")
     base = load_config(PAPER)
-    sample = draw_designs(base, 3, 4, near=base, spread=0.2)
+    sample = draw_designs(base, 3, 13, near=base, spread=0.2)
     assert r["sample"] == f"near {PAPER} ±0.2"
     counts = [simulate(c.replace({"sim.fidelity": "reference"})).traversals for c in sample.configs]
     assert len(set(counts)) == 3, counts  # a sample the comparison can fail on: no two designs alike

@@ -41,16 +41,31 @@ def test_all_three_models_reach_the_mbd_detach_angle_in_about_the_same_time(summ
     assert m["quasi_static"]["time_to_detach_angle"] < m["two_link"]["time_to_detach_angle"]
 
 
+def _turns(crossings: list[float], graze_deg: float = 0.5) -> list[float]:
+    """The sign changes less the grazes: a pair of crossings closer than ``graze_deg`` is theta1'' touching zero
+    and returning, not a change of sign."""
+    out: list[float] = []
+    for x in crossings:
+        if out and x - out[-1] < graze_deg:
+            out.pop()
+        else:
+            out.append(x)
+    return out
+
+
 def test_theta1_acceleration_sign_changes(summary):
     m = summary["models"]
     assert m["quasi_static"]["alpha1_sign_changes_deg"] == [pytest.approx(125.3, abs=0.5)]
     # The Table 1 robot's own swing makes theta1'' go +, -, + between 55 and 125 deg (the paper's Fig. 43),
-    # back to + near 115 deg, in the two-link model of the built robot and in the MBD alike (measured: 86.6,
-    # 114.9 and 87.7, 114.1 deg); the quasi-static model, without the robot's swing, turns once, at 125 deg.
-    tl, mbd = m["two_link"]["alpha1_sign_changes_deg"], m["mbd"]["alpha1_sign_changes_deg"]
+    # back to + near 115 deg, in the two-link model of the built robot and in the MBD alike (measured with the
+    # kit's parts: 87.3, 116.6 and 89.6, 117.6 deg); the quasi-static model, without the robot's swing, turns
+    # once, at 125 deg. In the MBD theta1'' first grazes zero at 87.2 deg (two crossings 0.02 deg apart) before
+    # it turns at 89.6 deg: a graze is not a turn.
+    tl, mbd = (_turns(m[name]["alpha1_sign_changes_deg"]) for name in ("two_link", "mbd"))
     for turns in (tl, mbd):
         assert len(turns) >= 2 and 55.0 < turns[0] < turns[1] < 125.0 and turns[1] == pytest.approx(115.0, abs=10.0)
     assert tl[:2] == pytest.approx(mbd[:2], abs=3.0)
+    assert _turns([87.24, 87.26, 89.64, 117.62]) == [89.64, 117.62]  # the graze rule on the MBD's crossings
 
 
 @pytest.fixture(scope="module")

@@ -142,10 +142,13 @@ def test_a_rung_that_left_the_ladder_is_refused_with_why_and_what_to_use_instead
 # benchmark's own code; their timings are not checked at all (benchmarks print them, tests never time).
 # The designs are the documented draw: numpy.random.default_rng(seed).uniform(-1, 1, (designs, dim)).
 # Seed 6's designs: of three (3 frames) two let go at reference fidelity, and one traverses, so detach times
-# and outcomes exist to be compared; of four (2 frames) one traverses. Seed 4's three designs (3 frames): one
-# traverses only without the skewer's friction, so the effects bench has an outcome change to count.
+# and outcomes exist to be compared; of four (2 frames) one traverses. Seed 3's three designs (3 frames): two
+# traverse only without the skewer's friction (designs 1 and 2: 0 -> 2 and 0 -> 1), and design 2's outcome also
+# turns on kinetic-only friction and on the axle's friction, so the effects bench has outcome changes to count for
+# three effects. Picked on the parts-built robot as the seed of 0-39 with the most effects changing an outcome
+# (seeds 1, 3, 8, 10, 11 ... change one under the skewer's friction; seed 4, the earlier pick, now none).
 BENCH_SEED = 6
-EFFECTS_SEED = 4
+EFFECTS_SEED = 3
 
 
 def _env_runs(overrides: dict, designs: int, seed: int = BENCH_SEED) -> list[dict]:
@@ -278,7 +281,7 @@ def test_bench_effects_counts_the_outcomes_each_effect_changes(capsys):
         other = [i["traversals"] for i in _env_runs({"scene.frames": 3, **overrides}, 3, EFFECTS_SEED)]
         changed = [i for i, (a, b) in enumerate(zip(scene, other)) if a != b]
         assert rows[name]["changed_designs"] == changed and rows[name]["outcomes_changed"] == len(changed), name
-        if name == "pivot_friction":  # the sample shows an effect at all (measured: design 1, 0 -> 1 traversal)
+        if name == "pivot_friction":  # the sample shows an effect at all (measured: designs 1 and 2, 0 -> 2 and 0 -> 1)
             assert changed, "seed no longer draws a design the skewer's friction decides: pick another EFFECTS_SEED"
 
 

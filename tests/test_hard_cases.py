@@ -325,7 +325,9 @@ WHOLE_RUN_CHANGES = {
     "energy.max_gain": lambda x: x + 3e-7,  # the run rose 3e-7 J above its start
     "health.joint_drift": lambda x: x * 1.4,  # the axle gives 40 % more at a catch
     "health.limit_overshoot_deg": lambda x: x + 0.6,  # the arm snaps 0.6 deg further past its stop
-    "health.penetration": lambda x: x * 1.4,  # the hook lands 40 % deeper
+    # the hook lands 0.5 mm deeper: a last-bit change of this robot moves the deepest landing by up to 0.19 mm, so a
+    # 40 % deeper landing (0.08 mm) is no longer told from one (tests/golden/tolerances.py)
+    "health.penetration": lambda x: x + 5e-4,
 }
 
 
@@ -349,13 +351,13 @@ def test_the_golden_whole_run_tolerances_catch_a_physical_change_of_each_quantit
 
 
 def test_the_golden_whole_run_tolerances_absorb_a_last_bit_change_that_moves_an_event(golden, paper_cfg):
-    """theta2's start one part in 1e15 lower: the catches move by steps (sim_time 3.5 ms earlier, the energy left 0.7 %,
-    the arm's overshoot 0.31 deg, the landing 0.055 mm deeper: tolerances.py's largest measured departures), which the
-    whole-run tolerances must take. Some single swings move past their own tolerances (tolerances.py says so)."""
+    """theta2's start one part in 1e15 lower: the catches move by steps (sim_time 4.5 ms earlier, the energy left
+    0.2 %, the landing deeper: within tolerances.py's largest measured departures), which the whole-run tolerances
+    must take. Some single swings move past their own tolerances (tolerances.py says so)."""
     expected, _ = golden
     nudged = _record(paper_cfg, {"scene.theta2_start_deg": paper_cfg.scene.theta2_start_deg * (1 - 1e-15)})
     assert nudged["sim_time"] != expected["sim_time"]  # an event did move
-    assert nudged["energy"]["final"] != pytest.approx(expected["energy"]["final"], rel=0.005)
+    assert nudged["energy"]["final"] != pytest.approx(expected["energy"]["final"], rel=0.001)
     assert [line for line in tolerances.departures(nudged, expected, _seconds_per_row())
             if not line.startswith("swings")] == []
 

@@ -122,3 +122,48 @@ def test_the_template_is_in_mm_and_marks_cuts_and_folds_by_class(kit):
             # a plotter tells the layers apart by colour: every cut one colour, every fold another
             assert len({el.get("stroke") for el in drawn if el.get("class") == "cut"}) <= 1
             assert {el.get("stroke") for el in drawn if el.get("class") == "fold"} <= {"#0000ff"}
+
+
+def test_the_world_swings_the_pieces_the_template_draws(tmp_path):
+    """The frame's and the arm's bodies in the pymunk world carry the mass and inertia of the pieces as drawn: the
+    side card's rectangle and hole and the arm's plate read off the template, their layers off parts.json, the
+    second moments written out here (a rectangle about its centre (w² + h²)/12 per unit mass; a disc r²/2)."""
+    from aero_env.physics.world import World
+    from aero_env.units import INERTIA, LENGTH, MASS
+
+    cfg = load_config(ROOT / "configs/paper.yaml")
+    main(["sheet", str(ROOT / "configs/paper.yaml"), "--out", str(tmp_path / "t.svg")])
+    main(["sheet", str(ROOT / "configs/paper.yaml"), "--out", str(tmp_path / "p.json")])
+    parts = {p["id"]: p for p in json.loads((tmp_path / "p.json").read_text())["parts"]}
+    root = ET.parse(tmp_path / "t.svg").getroot()
+    group = {g.get("id"): g for g in root.iter(SVG + "g")}
+
+    def plate(gid):
+        rect = next(group[gid].iter(SVG + "rect"))
+        hole = next(el for el in group[gid].iter(SVG + "circle") if el.get("class") == "cut")
+        w, h, r = (float(el.get(k)) * 1e-3 for el, k in ((rect, "width"), (rect, "height"), (hole, "r")))
+        sigma = GRAMMAGE * parts[gid]["layers"]
+        return sigma, w, h, r, float(hole.get("cx")) * 1e-3 - float(rect.get("x")) * 1e-3
+
+    d = cfg.design
+    sigma, w, h, r, hole_x = plate("part-frame-side-card")
+    assert hole_x == pytest.approx(w / 2, abs=1e-5)  # the hole at the card's middle: it balances on the skewer
+    card_I = 2 * sigma * (w * h * (w**2 + h**2) / 12 - math.pi * r**4 / 2)
+    card_m = 2 * sigma * (w * h - math.pi * r**2)
+    world = World(cfg)
+    body = world.frames[0].body
+    about_axis = (body.moment + body.mass * body.center_of_gravity.length_squared) / INERTIA
+    expected = card_I + d.m3 * (d.La**2 + d.h**2) + d.handrail_mass * d.Lb**2
+    assert body.mass / MASS == pytest.approx(card_m + d.m3 + d.handrail_mass, rel=1e-3)  # the SVG draws to 0.01 mm
+    assert about_axis == pytest.approx(expected, rel=1e-3)
+
+    sigma, w, h, r, hole_x = plate("part-arm")  # drawn along x: w is the arm's net length, h its width across
+    lip = w - hole_x - d.arm_length  # the hook's lip, folded at the tip
+    rod_m, lip_m, hole_m = sigma * h * (w - lip), sigma * h * lip, sigma * math.pi * r**2
+    rod_x = (w - lip) / 2 - hole_x  # the plate's centre from the axle, along the arm
+    com = (rod_m * rod_x + lip_m * d.arm_length) / (rod_m + lip_m - hole_m)
+    arm_I = rod_m * ((w - lip) ** 2 / 12 + (rod_x - com) ** 2) + lip_m * (d.arm_length - com) ** 2 - hole_m * com**2
+    arm = world.robot.arm
+    assert arm.mass / MASS == pytest.approx(d.arm_mass, rel=1e-6)
+    assert arm.center_of_gravity.x / LENGTH == pytest.approx(com, rel=1e-3)
+    assert arm.moment / INERTIA == pytest.approx(arm_I, rel=1e-3)

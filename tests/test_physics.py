@@ -42,11 +42,17 @@ def test_first_swing_looks_like_the_paper(paper_run):
     assert s.theta2_max_deg - s.theta2_min_deg < 40.0
 
 
-def test_theta1_rises_monotonically_and_the_spring_is_fully_bent_at_the_bottom(paper_run):
+def test_theta1_rises_monotonically_and_the_spring_is_fully_bent_at_the_bottom(paper_run, paper_cfg):
     tr = paper_run.trace
     first = tr["t"] <= paper_run.swings[0].t_detach
-    th1 = tr["theta1"][first]
-    assert np.all(np.diff(th1) > -1e-6)  # the frame never turns back during the swing (paper, Fig. 40)
+    # The start settles first: the hook, placed on the seat with the arm on its stop, seats 0.02 mm into the notch
+    # within 3 steps, the arm comes 0.06 deg off its stop and the frame gives back 9.7e-4 deg (measured at
+    # t = 1.5 ms; the build before the kit's parts did the same at 1.0 ms, before the trace's first row). Bound
+    # that settle, then the swing: the frame never turns back (paper, Fig. 40)
+    rest = math.radians(paper_cfg.design.rest_angle_deg)
+    assert np.all(tr["theta1"][first] > rest - math.radians(0.002))
+    th1 = tr["theta1"][first & (tr["t"] >= paper_cfg.sim.check_interval)]
+    assert np.all(np.diff(th1) > -1e-6)
     near_bottom = (tr["t"] > 0.25) & (tr["t"] < 0.35)  # paper Fig. 12: t ~ 0.3 s, alpha ~ 120 deg
     assert np.degrees(tr["alpha"][near_bottom]).max() > 118.0
 
@@ -59,10 +65,14 @@ def test_arm_snaps_forward_in_flight(paper_run):
 
 
 # ---------------------------------------------------------------- a traversal is a catch that holds
-# Draw 154 of 1500 uniform draws (seed 1) over configs/paper.yaml's action box on a 3-frame row: frame 1
-# catches the hook 0.2 mm from its seat (a seated catch), and the hook falls out 0.06 s later with the frame
-# at 61 deg. Counting the catch at once paid a traversal for it. (6 of those 1500 draws let go so.)
-CATCH_LETS_GO = {"design.m3": 0.006106327514710753, "design.h": 0.016193256984484376,
+# Draw 154 of 1500 uniform draws (seed 1) over configs/paper.yaml's action box on a 3-frame row, its
+# counterbalance 5 % heavier (m3 6.11 -> 6.41 g): frame 1 catches the hook 0.3 mm from its seat (a seated catch),
+# and the hook falls out 0.06 s later with the frame at 61 deg. Counting the catch at once paid a traversal for
+# it. (With the parts built as the kit draws them, the draw itself no longer lets go: frame 1 carries the robot,
+# and on 3 frames the hook slips off 3.4 mm below frame 2's handrail. In a grid about the draw, m3 x0.9-1.1,
+# h x0.9-1.05, La x0.95-1.05, spring_k x0.95-1.25 and mu_s x0.99-1.1, 205 of 960 designs let go of a seated
+# catch so.)
+CATCH_LETS_GO = {"design.m3": 0.00641, "design.h": 0.016193256984484376,
                  "design.La": 0.062445386095275904, "design.spring_k": 0.00020727552273168634,
                  "design.mu_s": 0.2039521421829815, "design.mu_k": 0.15390484530044174}
 
@@ -419,9 +429,17 @@ def test_the_built_robot_is_table_1s_torso_bottom_ld_from_the_hook_with_the_coin
     # the coins, discs of coin_radius centred coin_offset down the card from the axle, stay on the card
     coin_at = world.p.coin_offset / units.LENGTH
     assert d.coin_radius - 1e-12 <= coin_at and coin_at + d.coin_radius <= T + 1e-12
-    # ... and sit at its bottom: the torso's centre of mass is the card's and the coins' by hand
+    # ... and sit at its bottom: the torso's centre of mass is the card's and the coins' by hand. The card is the
+    # kit's laminated plate (310 g/m² card, the fewest layers at most 26 mm wide) from 4 mm above the axle down to
+    # T, less the 2.4 mm axle hole in each layer: the whole rectangle's centre is (T - 4 mm)/2 below the axle and
+    # the hole's, at the axle, has no moment about it
     m_card = d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass
-    com = (m_card * T / 2 + d.coin_mass * (T - d.coin_radius)) / (m_card + d.coin_mass)
+    card, end, hole = m_card / 0.310, 4e-3, math.pi * 1.2e-3**2  # m² of card over all layers, m, m² per layer
+    layers = math.ceil(card / ((T + end) * 26e-3))
+    width = (card / layers + hole) / (T + end)
+    rect = 0.310 * layers * width * (T + end)  # kg: the card with its holes filled in
+    assert rect - 0.310 * layers * hole == pytest.approx(m_card, rel=1e-12)
+    com = (rect * (T - end) / 2 + d.coin_mass * (T - d.coin_radius)) / (m_card + d.coin_mass)
     assert world.p.torso_com / units.LENGTH == pytest.approx(com, rel=1e-12)
 
 

@@ -261,3 +261,15 @@ def test_the_template_prints_the_stiffness_its_strip_gives(paper_cfg, k, law):
     w, free = (float(x) for x in re.search(r"([0-9.]+) mm wide, ([0-9.]+) mm free", caption).groups())
     n = int(re.search(r"cut (\d+) strip", caption).group(1))
     assert n * PAPER_CARD.bending_stiffness * w / free == pytest.approx(linear, rel=0.02)
+
+
+def test_a_tuned_value_reads_as_a_maker_reads_it(paper_cfg):
+    """What ``aero-env tune`` prints beside each best value: mm, g, whole coins and clay, the card pair."""
+    from aero_env.sheet.parts import workbench
+
+    assert workbench("design.La", 0.0484137, paper_cfg) == "48.4 mm"
+    assert workbench("design.m3", 0.00747632, paper_cfg) == "7 one-yen coins + 0.48 g clay (7.48 g)"
+    assert workbench("design.m1", 0.0024, paper_cfg) == "2.40 g"
+    assert workbench("design.spring_k", 1.3232e-3, paper_cfg) == "1.323 N·mm/rad"
+    assert workbench("design.mu_s", 0.29, paper_cfg).startswith("nearest card pair: gray arm on gray handrail")
+    assert workbench("design.rest_angle_deg", 55.0, paper_cfg) == ""

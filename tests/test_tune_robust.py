@@ -42,11 +42,13 @@ def test_a_fresh_study_starts_from_the_configs_own_design_and_a_resumed_one_not_
 
 
 def test_a_tune_that_cannot_beat_the_start_writes_the_configs_design_and_says_so(tmp_path):
-    # the prototype completes the 3-frame row; two trials cannot do strictly better. With CMA-ES seed 3 the second
-    # trial, another design, completes it too: a tie, which must not displace the config's design
+    # the prototype completes the 3-frame row; two trials cannot do strictly better. With CMA-ES seed 29 the second
+    # trial, another design (m3 8.4 g, h 6.1 mm, La 44.1 mm, mu_s 0.37), completes it too: a tie, which must not
+    # displace the config's design. Seed 29 is the only one of seeds 0-39 whose second trial ties on the parts-built
+    # robot (seeds 1, 11, 24, 31, 34, 36 reach 1 traversal, the rest 0; seed 3, the earlier pick, now 0)
     out = tmp_path / "b.yaml"
     done = subprocess.run([sys.executable, "-m", "aero_env.cli", "tune", str(PAPER), "--set", "scene.frames=3",
-                           "--set", "sim.dt=0.001", "--trials", "2", "--seed", "3", "--out", str(out),
+                           "--set", "sim.dt=0.001", "--trials", "2", "--seed", "29", "--out", str(out),
                            "--no-progress"],
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
@@ -56,7 +58,7 @@ def test_a_tune_that_cannot_beat_the_start_writes_the_configs_design_and_says_so
     for key in ("design.m3", "design.h", "design.La", "design.spring_k", "design.mu_s", "design.mu_k"):
         assert best.value(key) == cfg.value(key), key
     # the same study in this process: the tie is there, and the result says the start was kept
-    result = tune(cfg, TuneSettings(sampler="cmaes", trials=2, seed=3, **QUIET))
+    result = tune(cfg, TuneSettings(sampler="cmaes", trials=2, seed=29, **QUIET))
     assert result.history == [(0, 2.0), (1, 2.0)]
     assert (result.best_trial, result.start_trial, result.improved) == (0, 0, False)
     assert (result.start_reward, result.start_traversals) == (2.0, [2])

@@ -23,10 +23,11 @@ def analytical(cfg: Config, start: dict, angle: float, drag: bool = False) -> tu
     """The quasi-static and two-link swings from the MBD's held catch state ``start`` to ``angle``,
     on the MBD's clock (t = 0 at the first touch)."""
     d = cfg.design
-    # the two-link model of the robot the world builds (its parts, held at alpha_max), so the comparison is
-    # of models, not of robots; two_link's robot="paper" is the article's own A14 convention
+    # the two-link model of the machine the world builds (the robot's parts held at alpha_max, the frame's side
+    # cards), so the comparison is of models, not of machines; two_link's robot="paper" and inertia="consistent"
+    # are the article's own A14 and A13
     tl = two_link.simulate(d, start["theta1"], start["theta2"], start["omega1"], start["omega2"], t_end=3.0,
-                           until_theta1=angle, drag=drag, robot="parts")
+                           until_theta1=angle, drag=drag, inertia="parts", robot="parts")
     qs = quasi_static.simulate(d, start["theta1"], start["omega1"], t_end=3.0, until_theta1=angle, drag=drag)
     return _delayed(qs, start["t"]), _delayed(tl, start["t"])
 

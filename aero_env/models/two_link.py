@@ -30,7 +30,7 @@ and what the frame carries at the seat):
   eta5 = m2·Lc² + I2 then adds a parallel-axis term on top, counting the robot's distance from the
   hook twice. Kept because it is the paper's model.
 - ``"parts"``: the robot as the pymunk world builds it (:class:`aero_env.inertia.RobotParts`:
-  arm rod, torso card strip, coins), held rigid with the arm fully bent (alpha_max, how the robot
+  arm and torso plates as the kit builds them, coins), held rigid with the arm fully bent (alpha_max, how the robot
   hangs all swing long on a working design): m2 = the parts' mass, Lc and I2 the parts'
   hook-to-centre distance and inertia about their centre, so eta5 = m2·Lc² + I2 is the parts'
   inertia about the hook. The handrail's card (``handrail_mass``), which Table 1 counts in m2,

@@ -26,8 +26,8 @@ from .body_state import WORDS
 from .slip_kernel import memory_state, python_hypot
 
 # consts: what the kernel needs besides the bodies, engine units
-GRAVITY, PARKED_ENERGY, ARM_LENGTH, TORSO_COM, M_TORSO, M_ARM, ALPHA_MAX, ALPHA_MIN, HOOK_RADIUS = range(9)
-N_CONSTS = 9
+GRAVITY, PARKED_ENERGY, ARM_LENGTH, TORSO_COM, M_TORSO, M_ARM, ALPHA_MAX, ALPHA_MIN, HOOK_RADIUS, ARM_COM = range(10)
+N_CONSTS = 10
 # frame_table columns, one row per frame of the row
 AXIS_X, AXIS_Y, STOP_ANGLE, REST_ANGLE, RAIL_RADIUS = range(5)
 # out: the sample in engine units, then each live frame's state (x, y, angle, vx, vy, omega) in window order
@@ -91,10 +91,11 @@ def read_world(addresses, props, live, touch, frame_table, faces, consts, out):
             v2max = v2
     # Robot.measure: the hook, the centre of mass, alpha, the axle's drift and the arm's overshoot
     length, torso_com, mt, ma = consts[ARM_LENGTH], consts[TORSO_COM], consts[M_TORSO], consts[M_ARM]
+    arm_com = consts[ARM_COM]
     ca, sa = math.cos(aa), math.sin(aa)
     hx, hy = ax + length * ca, ay + length * sa
-    cx = (mt * (tx + torso_com * math.sin(ta)) + ma * (ax + 0.5 * length * ca)) / (mt + ma)
-    cy = (mt * (ty - torso_com * math.cos(ta)) + ma * (ay + 0.5 * length * sa)) / (mt + ma)
+    cx = (mt * (tx + torso_com * math.sin(ta)) + ma * (ax + arm_com * ca)) / (mt + ma)
+    cy = (mt * (ty - torso_com * math.cos(ta)) + ma * (ay + arm_com * sa)) / (mt + ma)
     alpha = aa - ta + math.pi / 2
     axle = python_hypot(tx - ax, ty - ay)
     arm_over = 0.0

@@ -29,7 +29,7 @@ class EngineParams:
     m_handrail: float  # the handrail's card, a point mass at the seat (-Lb, 0)
     pivot_friction: float  # Coulomb torque at each frame's skewer (0: no part)
     frame_com_x: float  # the frame's own centre of mass along its axis, from dT
-    I_frame_axis: float  # frame alone about its axis (consistent I1)
+    I_frame_axis: float  # the frame's two side cards about its axis, as the kit builds them (aero_env/parts)
     rest_angle: float
     stop_angle: float
     held_past: float  # a hooked frame turning back after passing this angle was held by friction (results)
@@ -44,6 +44,7 @@ class EngineParams:
     m_arm: float
     m_torso: float
     arm_length: float
+    arm_com: float  # the arm's centre of mass, from the axle along the arm
     torso_com: float
     torso_length: float  # the torso card strip, axle to its bottom
     coin_offset: float  # axle to the coins' centre
@@ -97,13 +98,13 @@ def to_engine(cfg: Config) -> EngineParams:
         La=d.La * L, Lb=d.Lb * L, h=d.h * L,
         m_frame=d.m1 * M, m_cb=d.m3 * M, m_handrail=d.handrail_mass * M,
         pivot_friction=d.pivot_friction * units.TORQUE, frame_com_x=frame_com_x,
-        I_frame_axis=frame_inertia(d, "consistent") * I,
+        I_frame_axis=frame_inertia(d, "parts") * I,
         rest_angle=rad(d.rest_angle_deg), stop_angle=rad(d.stop_angle_deg), held_past=float(held_past_angle(d)),
         notch_angle=rad(d.notch_angle_deg), notch_opening=rad(d.notch_opening_deg),
         notch_back_face=d.notch_back_face * L, notch_front_face=d.notch_front_face * L,
         rail_radius=d.handrail_thickness * L / 2.0, hook_radius=d.hook_radius * L,
         m_robot=parts.mass * M, m_arm=parts.m_arm * M, m_torso=parts.m_torso * M,
-        arm_length=d.arm_length * L, torso_com=parts.torso_com * L,
+        arm_length=d.arm_length * L, arm_com=float(parts.arm_com) * L, torso_com=parts.torso_com * L,
         torso_length=float(parts.torso_length) * L, coin_offset=float(parts.coin_offset) * L,
         I_arm=parts.I_arm * I, I_torso=parts.I_torso * I, axle_friction=d.axle_friction * units.TORQUE,
         Lc=rigid_Lc * L, I2=rigid_I * I,

@@ -10,7 +10,7 @@ Hanging makes the robot's weight open alpha against the spring until the alpha_m
 (the "fully bent" spring); in flight the spring snaps the arm forward to alpha_min.
 
 Masses, centres and inertias are the parts' own (:class:`aero_env.inertia.RobotParts`): a card
-torso strip with the coins on it, and the arm as a uniform rod. ``axle_friction`` > 0 adds the
+torso plate with the coins on it, and the arm, a plate from behind the axle to the hook. ``axle_friction`` > 0 adds the
 axle's dry friction as a capped motor (:func:`swing_frame.coulomb_friction`).
 """
 
@@ -42,7 +42,7 @@ class Robot:
         self.torso = pymunk.Body(p.m_torso, p.I_torso)
         self.torso.center_of_gravity = (0.0, -p.torso_com)
         self.arm = pymunk.Body(p.m_arm, p.I_arm)
-        self.arm.center_of_gravity = (p.arm_length / 2.0, 0.0)
+        self.arm.center_of_gravity = (p.arm_com, 0.0)
         self.hook_local = pymunk.Vec2d(p.arm_length, 0.0)
         self.tip = pymunk.Circle(self.arm, p.hook_radius, self.hook_local)
         self.tip.collision_type = HOOK
@@ -62,7 +62,7 @@ class Robot:
     def place_hanging(self, hook_world: pymunk.Vec2d, theta2: float, alpha: float) -> None:
         """Put the hook tip at ``hook_world`` with the robot line (centre -> hook) at angle theta2."""
         p = self.p
-        hook, _, _, com = part_layout(p.arm_length, p.torso_com, p.m_arm, p.m_torso, alpha)
+        hook, _, _, com = part_layout(p.arm_length, p.torso_com, p.m_arm, p.m_torso, alpha, p.arm_com)
         local_line = pymunk.Vec2d(hook[0] - com[0], hook[1] - com[1])
         rot = theta2 - local_line.angle
         self.torso.angle = rot
@@ -123,10 +123,10 @@ class Robot:
         p = self.p
         ca, sa = math.cos(aa), math.sin(aa)
         hook = (ax + p.arm_length * ca, ay + p.arm_length * sa)
-        # torso cog at (0, -torso_com) and arm cog at (arm_length/2, 0) in their bodies' frames
+        # torso cog at (0, -torso_com) and arm cog at (arm_com, 0) in their bodies' frames
         mt, ma = p.m_torso, p.m_arm
-        com = ((mt * (tx + p.torso_com * math.sin(ta)) + ma * (ax + 0.5 * p.arm_length * ca)) / (mt + ma),
-               (mt * (ty - p.torso_com * math.cos(ta)) + ma * (ay + 0.5 * p.arm_length * sa)) / (mt + ma))
+        com = ((mt * (tx + p.torso_com * math.sin(ta)) + ma * (ax + p.arm_com * ca)) / (mt + ma),
+               (mt * (ty - p.torso_com * math.cos(ta)) + ma * (ay + p.arm_com * sa)) / (mt + ma))
         alpha = aa - ta + math.pi / 2
         # the axle: both bodies have their origin there; the stopper: alpha within its limits
         return RobotMeasure(hook, com, alpha, math.hypot(tx - ax, ty - ay),

@@ -137,8 +137,8 @@ class World:
         ck, p, bodies = check_kernel, self.p, (*(f.body for f in self.frames), *self.robot.bodies)
         self._consts = consts = np.zeros(ck.N_CONSTS)
         consts[[ck.GRAVITY, ck.ARM_LENGTH, ck.TORSO_COM, ck.M_TORSO, ck.M_ARM, ck.ALPHA_MAX, ck.ALPHA_MIN,
-                ck.HOOK_RADIUS]] = (p.gravity, p.arm_length, p.torso_com, p.m_torso, p.m_arm, p.alpha_max,
-                                    p.alpha_min, self.contact.hook_shape.radius)
+                ck.HOOK_RADIUS, ck.ARM_COM]] = (p.gravity, p.arm_length, p.torso_com, p.m_torso, p.m_arm, p.alpha_max,
+                                                p.alpha_min, self.contact.hook_shape.radius, p.arm_com)
         frame_table = np.array([(f.axis.x, f.axis.y, f.stop_angle, f.rest_angle, f.rail_radius) for f in self.frames])
         # the arguments before and after the live frames' indices, which each window move sets
         self._check_head = (np.array([body_state.address(b) for b in bodies], dtype=np.int64),

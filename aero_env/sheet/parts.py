@@ -54,6 +54,26 @@ def laminate(piece) -> str:
     return "one layer" if piece.layers == 1 else f"{piece.layers} layers glued flat"
 
 
+def workbench(key: str, value: float, cfg: Config) -> str:
+    """A tuned value as a maker reads it: a length in mm, a mass in g (m3 and the coins as whole one-yen coins and
+    clay), a friction as the nearest measured card pair, a spring in N·mm/rad; "" for a value with no such reading."""
+    from ..config.sections import real_field
+
+    unit = real_field(key, "workbench").metadata["unit"]
+    if key in ("design.m3", "design.coin_mass"):
+        return coins_and_clay(value)
+    if key == "design.mu_s":
+        pair, off = card_pair(value, cfg.design.mu_k * value / cfg.design.mu_s)
+        return f"nearest card pair: {pair}, {100 * off:.0f} % off"
+    if unit == "m":
+        return mm(value)
+    if unit == "kg":
+        return grams(value)
+    if unit == "N·m/rad":
+        return f"{value * 1e3:.3f} N·mm/rad"
+    return ""
+
+
 def card_pair(mu_s: float, mu_k: float) -> tuple[str, float]:
     """The Table 3 pair nearest the design's friction, and its relative distance in mu_s."""
     name, s, _k = min(CARD_PAIRS, key=lambda p: math.hypot(p[1] - mu_s, p[2] - mu_k))

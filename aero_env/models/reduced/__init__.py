@@ -16,7 +16,7 @@ swing start, end), :mod:`.flight` (flight and the catch test), :mod:`.catch` (th
 **The swing (hooked).** Coordinates: the frame angle theta1, the arm's direction phi_a (hook ->
 axle) and the torso's phi_t (axle -> torso centre), the hook in the handrail's notch. This is the
 paper's two-link model (frame + robot jointed at the handrail, A25/A30) with the robot link taken
-*from its parts*, as the pymunk robot is built (``arm_length``, ``arm_mass`` a uniform rod,
+*from its parts*, as the pymunk robot is built (``arm_length``, ``arm_mass``: the kit's laminated plates (aero_env/parts),
 ``torso_com``, and the torso inertia :mod:`aero_env.physics.engine_params` derives so the robot,
 fully bent, has the paper's I2 about its centre). While the arm sits on its stop (alpha_max: the
 robot's weight holds the leaf spring there on a working design, the prototype all swing long) the

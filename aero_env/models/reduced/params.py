@@ -13,7 +13,7 @@ import numpy as np
 
 from ... import units
 from ...config import Config, ConfigError, check_design
-from ...inertia import RobotParts, spring_damping_coefficient
+from ...inertia import RobotParts, frame_inertia, spring_damping_coefficient
 from ...physics.swing_rules import held_past_angle
 from .constants import DRY_FRICTION_RATE, DRY_FRICTION_STEP, MOUTH_END_REACH, STEP
 from .layout import P
@@ -99,10 +99,10 @@ def param_table(raw: Mapping[str, np.ndarray], dt: float) -> np.ndarray:
     La, Lb, h, m1, m3 = d("La"), d("Lb"), d("h"), d("m1"), d("m3")
     dT = d("dT")
     mh = d("handrail_mass")
-    # the frame: own inertia (consistent I1), own centre of mass from dT (as engine_params), the counterbalance,
+    # the frame: own inertia (its side cards, aero_env/parts), own centre of mass from dT (as engine_params), the counterbalance,
     # and the handrail's card, a point mass at the seat (-Lb, 0) (swing_frame.SwingFrame)
     x_f = -dT / (m1 * g)
-    I1 = 2.0 * m1 / 3.0 * (La**2 + Lb**2 - La * Lb)
+    I1 = frame_inertia(_DesignArrays(raw), "parts")  # the side cards as the kit builds them
     c["If"] = I1 + m1 * x_f**2 + m3 * (La**2 + h**2) + mh * Lb**2
     c["m3gh"] = m3 * g * h
     # the frame's own, the counterbalance's and the handrail card's moment: cfr·cos(theta1) + m3gh·sin(theta1)
@@ -114,9 +114,10 @@ def param_table(raw: Mapping[str, np.ndarray], dt: float) -> np.ndarray:
     L, dc = parts.arm_length, parts.torso_com
     amin, amax = rad(d("alpha_min_deg")), rad(d("alpha_max_deg"))
     c["m"], c["mg"] = m2, m2 * g
-    Pa = c["Pa"] = ma * L / 2.0 + mt * L  # first moments about the hook of the arm direction ...
+    xa = L - parts.arm_com  # the arm's centre from the hook
+    Pa = c["Pa"] = ma * xa + mt * L  # first moments about the hook of the arm direction ...
     Pt = c["Pt"] = mt * dc  # ... and of the torso direction
-    Ja = c["Ja"] = parts.I_arm + ma * L**2 / 4.0 + mt * L**2  # arm + torso about the hook (arm coordinate)
+    Ja = c["Ja"] = parts.I_arm + ma * xa**2 + mt * L**2  # arm + torso about the hook (arm coordinate)
     Jt = c["Jt"] = parts.I_torso + mt * dc**2  # torso about the axle
     Pat = c["Pat"] = mt * L * dc
     # about the centre of mass (flight): kinetic energy Ka·wa²/2 + Kt·wt²/2 + Kat·cos(pa - pt)·wa·wt
