@@ -87,8 +87,9 @@ def test_extreme_designs_stay_sane_or_say_unstable(paper_cfg, name):
 # each side of the card's middle) in which the contact sees a card. With the earlier fitted robot, twice Table
 # 1's size, its centre crossed frame 1's front card in one step and was called a graze that no monitor saw
 # (strict xfails here); the runner's tunnelling watch (monitors.TunnelWatch) now calls such a step unstable.
-# With the Table 1 robot the landing sinks the hook 1.3 mm into the card, past sim.max_penetration: unstable
-# too. At 1 ms the hook moves 1.5 mm per step and stays on its side.
+# With the Table 1 robot the landing sank the hook 1.3 mm into the card, past sim.max_penetration: unstable
+# too; built from the kit's parts, the hook goes through frame 2's card on the 3-frame row, and the tunnelling
+# watch calls it. At 1 ms the hook moves 1.5 mm per step and stays on its side.
 @pytest.mark.parametrize("dt", [0.00025, 0.001, 0.002, 0.005, 0.01])
 def test_large_time_steps_agree_or_say_unstable(paper_cfg, dt):
     hold = {"sim.dt": dt, "sim.contact_hold": max(0.01, 5 * dt), "scene.frames": 3}

@@ -273,3 +273,45 @@ def test_a_tuned_value_reads_as_a_maker_reads_it(paper_cfg):
     assert workbench("design.spring_k", 1.3232e-3, paper_cfg) == "1.323 N·mm/rad"
     assert workbench("design.mu_s", 0.29, paper_cfg).startswith("nearest card pair: gray arm on gray handrail")
     assert workbench("design.rest_angle_deg", 55.0, paper_cfg) == ""
+
+
+def test_the_troubleshooting_table_is_what_the_world_does_at_its_edges(paper_cfg):
+    """Each row's window, read back from the table's text, is re-run here: at the window's edge the row completes,
+    and one maker's step (0.1 g, 2 %, 0.5 deg) beyond it the world gives the outcome the row says the maker sees."""
+    from aero_env.sheet.troubleshoot import table
+    from aero_env.simulation import simulate
+
+    rows = [r for r in table(paper_cfg) if r.startswith("| ") and not r.startswith("| you see")]
+    assert rows, table(paper_cfg)
+    keys = {"counterbalance": ("design.m3", 1e-4), "spring": ("design.spring_k", None),
+            "rest angle": ("design.rest_angle_deg", 0.5)}  # the maker's step: 0.1 g, 2 %, 0.5 deg
+    si = {"g": 1e-3, "N·mm/rad": 1e-3, "deg": 1.0}  # the printed unit to the field's
+    checked = 0
+    for row in rows:
+        seen, change, window = (c.strip() for c in row.strip("|").split("|"))
+        outcome, transfer = re.match(r"(\w+) \(transfer (\d+)\)", seen).groups()
+        key, step = next(v for k, v in keys.items() if change.startswith(k))
+        lo, hi = (float(x) * si[u] for x, u in re.findall(r"([0-9.]+) (g|deg|N·mm/rad)", window)[:2])
+        toward = "lighter" in change or "softer" in change or "lower" in change  # the maker is past the upper edge
+        edge = hi if toward else lo
+        beyond = edge * 1.02 if step is None and toward else edge / 1.02 if step is None else \
+            edge + step if toward else edge - step
+        at_edge = simulate(paper_cfg.replace({key: edge}))
+        past = simulate(paper_cfg.replace({key: beyond}))
+        assert at_edge.outcome == "completed", (row, at_edge.reason)
+        assert (past.outcome, past.traversals + 1) == (outcome, int(transfer)), (row, past.reason)
+        checked += 1
+    assert checked >= 3
+
+
+def test_the_frame_balance_check_brackets_the_counterbalances_moment(paper_cfg):
+    from aero_env.sheet.troubleshoot import frame_balance
+
+    d = paper_cfg.design
+    lo, hi = (int(n) for n in re.search(r"with (\d+) one-yen coins .* with (\d+) seat-down", frame_balance(paper_cfg)).groups())
+    # held level, the moment about the skewer of the counterbalance (at La) against the handrail and n 1 g coins
+    # at the seat (at Lb): positive turns it counterbalance-down
+    moment = lambda n: d.m3 * d.La - (d.handrail_mass + n * 1e-3) * d.Lb  # noqa: E731
+    assert hi == lo + 1 and moment(lo) > 0 > moment(hi)
+    at = float(re.search(r"balances at ([0-9.]+)\)", frame_balance(paper_cfg)).group(1))
+    assert at == pytest.approx((d.m3 * d.La - d.handrail_mass * d.Lb) / (1e-3 * d.Lb), abs=0.05)  # 6.5 coins

@@ -112,7 +112,8 @@ def handrail_card(d: Design) -> dict:
 def counterbalance_load(m3) -> dict:
     """Whole one-yen coins and the clay for the rest of m3 (kg, unrounded: the design space's grid rounds it)."""
     coins = np.floor(m3 / YEN_COIN + 1e-9)
-    return dict(coins=coins, clay=m3 - coins * YEN_COIN, mass=m3)
+    clay = m3 - coins * YEN_COIN
+    return dict(coins=coins, clay=np.where(clay < 1e-9, 0.0, clay), mass=m3)  # 9 g is 9 coins, not -0.00 g of clay
 
 
 # ---- the robot ---------------------------------------------------------------------------------------------------

@@ -8,7 +8,7 @@ of the kit (``aero_env/parts/kit.py``): how many to cut, its layers and card, wh
 its mass, and the model field it makes up. ``.md``: every part in mm and g (and 1-yen coins), the card pair that gives the friction, where
 the counterbalance goes, the spring as the paper measures it, whether the design completes its
 row, and its robustness: the share of hand-made builds (``aero-env robustness``'s tolerances)
-that still complete it. ``.svg``: the template to print and cut (``template.py``): every part at 1:1 and the stand to
+that still complete it, the bench checks, and a troubleshooting table keyed by the outcome a maker sees. ``.svg``: the template to print and cut (``template.py``): every part at 1:1 and the stand to
 scale. The output path is checked before anything is simulated; the robustness builds show their
 progress on stderr (``--no-progress``: none).
 """
@@ -54,9 +54,19 @@ def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str
     r = simulate(cfg)
     verdict = (f"**In the simulated world this design {'completes' if r.outcome == 'completed' else 'does not complete'} "
                f"its row**: {r.traversals} of {r.frames - 1} transfers ({r.outcome}: {r.reason}).")
+    from .troubleshoot import frame_balance, table
+
     return "\n".join([f"# Build sheet: {config_name}", "", verdict, "", robustness_line(cfg, config_name, draws, seed, progress, compare),
                       "",
                       *rows, "",
+                      "## Bench checks", "",
+                      "- **The spring**: the bench check in the table above (a load at the hook tip, the arm's turn).",
+                      f"- **The frame's balance**: {frame_balance(cfg)}.", "",
+                      "## If the row does not complete", "",
+                      "What the maker sees, what to change, and the window in which the world completes this design's "
+                      "row with everything else as drawn (`aero_env/sheet/troubleshoot.py`: each value walked out "
+                      "from the design's own until the row fails, to 0.1 g, 2 % and 0.5 deg):", "",
+                      *table(cfg), "",
                       "Lengths are measured along the card. The model is 2D: a part's width across follows from "
                       "its mass (aero_env/parts/build.py says how each is built). The friction pair is the paper's Table 3 (JIS K7125, 0.4 mm 310 g/m² card). "
                       + (f"The template to print at 100 % is [{template}]({template})." if template else
