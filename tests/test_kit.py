@@ -167,3 +167,53 @@ def test_the_world_swings_the_pieces_the_template_draws(tmp_path):
     assert arm.mass / MASS == pytest.approx(d.arm_mass, rel=1e-6)
     assert arm.center_of_gravity.x / LENGTH == pytest.approx(com, rel=1e-3)
     assert arm.moment / INERTIA == pytest.approx(arm_I, rel=1e-3)
+
+
+def test_the_crossbeam_lays_out_the_rows_axes_and_stoppers_at_1_to_1(tmp_path):
+    """Read off the template alone: the axis holes lie pitch-and-rise apart along the beam, and a skewer in each
+    stopper hole holds a side card (its depth read off the template too) at the rest angle and at the end stop:
+    its centre La/2 along the frame line and a card's half-depth plus a skewer's radius off it, on the side the
+    counterbalance turns toward. Every segment of a long row, and segments that share their end axis."""
+    cfg = load_config(ROOT / "configs/paper.yaml")
+    d, s = cfg.design, cfg.scene
+    main(["sheet", str(ROOT / "configs/paper.yaml"), "--out", str(tmp_path / "t.svg")])
+    root = ET.parse(tmp_path / "t.svg").getroot()
+    groups = {g.get("id"): g for g in root.iter(SVG + "g") if (g.get("id") or "").startswith("part-")}
+    depth = float(next(groups["part-frame-side-card"].iter(SVG + "rect")).get("height"))  # mm
+    beams = sorted((k for k in groups if k.startswith("part-crossbeam-")), key=lambda k: int(k.rsplit("-", 1)[1]))
+    assert beams, sorted(groups)
+    beta = math.atan2(s.rise, s.pitch)
+    step = math.hypot(s.pitch, s.rise) * 1e3
+
+    def holds(offset_mm, angle_deg, falls):
+        """A skewer at this offset from the axis (beam mm, v up) holds the card at ``angle_deg``."""
+        u, v = offset_mm
+        x, y = u * math.cos(beta) - v * math.sin(beta), u * math.sin(beta) + v * math.cos(beta)  # level world, mm
+        a = math.radians(angle_deg)
+        along, across = x * math.cos(a) + y * math.sin(a), -x * math.sin(a) + y * math.cos(a)
+        # the SVG gives every coordinate to 0.01 mm, so 0.05 mm
+        return (along == pytest.approx(d.La * 500, abs=0.05) and abs(across) == pytest.approx(depth / 2 + 1.0, abs=0.05)
+                and math.copysign(1, across) == falls)
+
+    axes_seen = []
+    for k in beams:
+        holes = [(float(c.get("cx")), -float(c.get("cy"))) for c in groups[k].iter(SVG + "circle")
+                 if c.get("class") == "cut"]
+        rows: dict[float, list[float]] = {}
+        for x, y in holes:
+            rows.setdefault(round(y, 1), []).append(x)
+        assert len(rows) == 3 and len({len(v) for v in rows.values()}) == 1, rows
+        found = []
+        for axis_y, xs in rows.items():
+            xs = sorted(xs)
+            assert all(b - a == pytest.approx(step, abs=0.02) for a, b in zip(xs, xs[1:]))
+            others = [(y, sorted(v)[0] - xs[0]) for y, v in rows.items() if y != axis_y]
+            # the rest stopper is on the side the counterbalance falls to (below the frame line), the end stop's above
+            rest = [o for o in others if holds((o[1], o[0] - axis_y), d.rest_angle_deg, -1)]
+            stop = [o for o in others if holds((o[1], o[0] - axis_y), d.stop_angle_deg, +1)]
+            if rest and stop:
+                found.append(len(xs))
+        assert len(found) == 1, (k, rows)
+        axes_seen.append(found[0])
+    # consecutive segments share an axis, so the row's frames are the segments' axes less the shared ones
+    assert sum(axes_seen) - (len(beams) - 1) == s.frames

@@ -11,7 +11,6 @@ import shutil
 import pytest
 
 from aero_env.cli import main
-from aero_env.sheet.template import HOLE
 
 from .conftest import PAPER
 
@@ -41,7 +40,7 @@ MEASURE = """() => {
   for (const g of document.querySelectorAll('g.part')) {
     const outline = g.querySelector('rect, polygon');
     for (const c of g.querySelectorAll('circle')) {
-      if (c.getAttribute('r') !== '%HOLE%' || c.getAttribute('fill') !== 'none') continue;
+      if (c.getAttribute('class') !== 'cut') continue;  // a hole: a cut circle inside its card
       const cx = +c.getAttribute('cx'), cy = +c.getAttribute('cy'), r = +c.getAttribute('r');
       let inside = true;
       for (let k = 0; k < 16; k++) {
@@ -60,7 +59,7 @@ MEASURE = """() => {
     parts: [...document.querySelectorAll('g.part')].map(g => [g.id, box(g)]),
     holes,
   };
-}""".replace("%HOLE%", f"{HOLE:.2f}")
+}"""
 
 
 def _render(browser, path):
@@ -85,9 +84,17 @@ def test_the_template_renders_at_its_stated_size_with_every_part_and_no_overlap(
     assert m["size"][1] == pytest.approx(h_mm * PX_PER_MM, abs=0.5)
     bar = m["bar"]
     assert bar[2] - bar[0] == pytest.approx(50 * PX_PER_MM, abs=0.2)  # the print's check
+    # it prints at 100 % on A4 (210 x 297 mm) and US Letter (215.9 x 279.4 mm) with 10 mm margins: no printer
+    # shrinks it to fit the width, and no piece is taller than a page, so a page break never cuts one in two
+    for paper_w, paper_h in ((210.0, 297.0), (215.9, 279.4)):
+        assert w_mm <= paper_w - 20.0
+        for name, box in m["parts"]:
+            assert (box[3] - box[1]) / PX_PER_MM <= paper_h - 20.0, name
 
-    assert {name for name, _ in m["parts"]} == {"part-frame-side-card", "part-handrail", "part-counterbalance",
-                                                "part-arm", "part-torso", "part-leaf-spring", "stand"}
+    names = {name for name, _ in m["parts"]}
+    beams = {n for n in names if n.startswith("part-crossbeam-")}
+    assert beams and names - beams == {"part-upright-first", "part-upright-last", "part-frame-side-card", "part-handrail",
+                                       "part-counterbalance", "part-arm", "part-torso", "part-leaf-spring", "stand"}
     caps = m["captions"]
     for i, (text, box) in enumerate(caps):
         for other, obox in caps[i + 1:]:
@@ -95,6 +102,7 @@ def test_the_template_renders_at_its_stated_size_with_every_part_and_no_overlap(
         for name, pbox in m["parts"]:
             assert not _overlap(box, pbox), f"caption {text!r} overlaps part {name}"
         assert box[2] <= m["size"][0] and box[0] >= 0, f"caption {text!r} runs off the page"
-    # the frame's skewer hole and the arm's and torso's axle holes, each wholly inside its card
-    assert sorted(name for name, _ in m["holes"]) == ["part-arm", "part-frame-side-card", "part-torso"]
+    # the frame's skewer hole, the arm's and torso's axle holes and the crossbeams' skewer holes, each wholly inside
+    # its card
+    assert {name for name, _ in m["holes"]} == {"part-arm", "part-frame-side-card", "part-torso"} | beams
     assert all(inside for _, inside in m["holes"]), m["holes"]

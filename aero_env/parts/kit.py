@@ -210,8 +210,9 @@ def spring(cfg, card: Card = PAPER_CARD) -> Piece | None:
 
 
 def pieces(cfg, card: Card = PAPER_CARD) -> list[Piece]:
-    """Every piece of the kit, in the order of work."""
-    out = [side_card(cfg), handrail(cfg), counterbalance(cfg), torso(cfg), arm(cfg)]
+    """Every piece of the kit, in the order of work: the stand, the frames, the robot."""
+    out = [*crossbeam_segments(cfg), *uprights(cfg), side_card(cfg), handrail(cfg), counterbalance(cfg), torso(cfg),
+           arm(cfg)]
     strip = spring(cfg, card)
     return out + ([strip] if strip is not None else [])
 
@@ -236,3 +237,95 @@ def parts_json(cfg, config_name: str = "") -> dict:
     return dict(config=config_name, grammage_kg_m2=build.GRAMMAGE, card_thickness_m=build.CARD_THICKNESS,
                 parts=[p.json() for p in ps],
                 fields={k: dict(config=float(cfg.value(k)), parts=float(v)) for k, v in made.items()})
+
+
+# ---- the stand at 1:1 ------------------------------------------------------------------------------------------
+SEGMENT_MAX = 170.0  # mm: a crossbeam segment fits the template's width, so it prints at 1:1 on A4 and Letter
+CROSSBEAM_LAYERS = 3  # a stiff strip: three layers glued flat (a choice; the stand's mass is not modelled)
+UPRIGHT_WIDTH = 10.0  # mm
+SNUG_R = build.SKEWER_D * MM / 2  # the crossbeam holds each skewer snug: the frames turn on it, it does not turn
+
+
+def stopper_offsets(d) -> tuple[tuple[float, float], tuple[float, float]]:
+    """World offsets (m) from a frame's axis of its two stopper skewers' centres: the rest stopper touches the side
+    card's edge below the counterbalance's arm, halfway out, with the frame at its rest angle, and the end stopper
+    the other edge at the end stop. The world's rotary limits are where these skewers hold the card."""
+    depth = float(build.side_card(d)["depth"])
+    out = []
+    for angle_deg, side in ((d.rest_angle_deg, -1.0), (d.stop_angle_deg, 1.0)):
+        a = math.radians(angle_deg)
+        s, off = d.La / 2, side * (depth / 2 + build.SKEWER_D / 2)
+        out.append((s * math.cos(a) - off * math.sin(a), s * math.sin(a) + off * math.cos(a)))
+    return out[0], out[1]
+
+
+def crossbeam_segments(cfg) -> list[Piece]:
+    """The crossbeam at 1:1, along the row's incline: every frame's axis hole and both its stopper holes, the
+    rest angle and the counterbalance's side marked. A long row is cut in segments that overlap by one axis:
+    a skewer through the shared holes lines them up before they are glued."""
+    d, s = cfg.design, cfg.scene
+    beta = math.atan2(s.rise, s.pitch)
+    step = math.hypot(s.pitch, s.rise) * MM  # axis to axis along the crossbeam
+    cb, sb = math.cos(beta), math.sin(beta)
+
+    def along(w):  # a world offset (m) to crossbeam coordinates (mm): u along the incline, v up from it
+        return (w[0] * cb + w[1] * sb) * MM, (-w[0] * sb + w[1] * cb) * MM
+
+    rest, stop = (along(w) for w in stopper_offsets(d))
+    vs = [0.0, rest[1], stop[1]]
+    us = [0.0, rest[0], stop[0]]
+    v_lo, v_hi = min(vs) - build.END * MM - SNUG_R, max(vs) + build.END * MM + SNUG_R
+    u_lo, u_hi = min(us) - build.END * MM - SNUG_R, max(us) + build.END * MM + SNUG_R  # about one axis
+    per = max(1, int((SEGMENT_MAX - (u_hi - u_lo)) // step))  # axis steps a segment spans
+    starts = list(range(0, s.frames - 1, per)) or [0]
+    segments = []
+    ray = math.radians(d.rest_angle_deg) - beta  # the frame line at rest, counterbalance side, in the beam's frame
+    for k, a in enumerate(starts):
+        b = min(a + per, s.frames - 1)
+        x0 = a * step + u_lo
+        width, height = (b - a) * step + (u_hi - u_lo), v_hi - v_lo
+        shapes = [_rect(0, 0, width, height)]
+        holes = 0
+        for i in range(a, b + 1):
+            ux, vy = i * step - x0, v_hi  # the axis, in the drawing (y down)
+            shapes.append(_circle(ux, vy, SNUG_R))
+            for su, sv in (rest, stop):
+                shapes.append(_circle(ux + su, vy - sv, SNUG_R))
+            holes += 3
+            shapes.append(_line(ux, vy, ux + 12 * math.cos(ray), vy - 12 * math.sin(ray), "mark"))
+        area = width * height - holes * math.pi * SNUG_R**2
+        n = len(starts)
+        first = (f"CROSSBEAM{f', SEGMENT {k + 1} of {n}' if n > 1 else ''}: cut 2 (one per side of the row), "
+                 f"{_layers_text(CROSSBEAM_LAYERS)}; {width:.1f} x {height:.1f} mm, frames {a}-{b}.")
+        rest_text = (f"Holes Ø{2 * SNUG_R:.1f} mm, the skewers snug: on the beam's line each frame's axis, "
+                     f"{step:.1f} mm apart ({s.pitch * MM:.1f} mm pitch, {s.rise * MM:+.1f} mm rise); beside each, the "
+                     f"rest stopper and the end stopper. Black line: the frame line at rest ({d.rest_angle_deg:.0f} deg "
+                     f"from level), pointing to the counterbalance's side; the crossbeam's line rises "
+                     f"{math.degrees(beta):.1f} deg, so stand it with the line at that angle to the floor.")
+        caption = (first, rest_text) if k == 0 else (
+            first, f"Overlap segment {k}'s last axis: a skewer through the shared holes lines them up; glue.")
+        segments.append(Piece(f"crossbeam {k + 1}", f"part-crossbeam-{k + 1}", 2, CROSSBEAM_LAYERS, area / MM**2, (),
+                              "scene.pitch", 1, ("scene.rise", "design.rest_angle_deg", "design.stop_angle_deg"),
+                              caption, tuple(shapes)))
+    return segments
+
+
+def uprights(cfg) -> list[Piece]:
+    """The four legs that hold the crossbeams: the first axis floor_drop above a level floor, the last one the row's
+    rise higher (the world's floor follows the row; a table does not, and only a fall reaches it)."""
+    s = cfg.scene
+    w, foot = UPRIGHT_WIDTH, 10.0
+    out = []
+    for end, frame, height in (("first", 0, s.floor_drop * MM), ("last", s.frames - 1,
+                                                                   (s.floor_drop + (s.frames - 1) * s.rise) * MM)):
+        length = height + foot
+        caption = (f"UPRIGHT UNDER THE {end.upper()} AXIS: cut 2, {_layers_text(CROSSBEAM_LAYERS)}; {length:.1f} x "
+                   f"{w:.0f} mm: frame {frame}'s axis {height:.1f} mm above the base; fold the {foot:.0f} mm foot and "
+                   f"glue it to the base.",)
+        if end == "last":
+            caption += (f"BASE: any stiff board {((s.frames - 1) * s.pitch + 0.12) * MM:.0f} x 60 mm, level; the two "
+                        f"crossbeams stand {build.RAIL_SPAN * MM + 20:.0f} mm apart, the frames between them.",)
+        out.append(Piece(f"upright under the {end} axis", f"part-upright-{end}", 2, CROSSBEAM_LAYERS,
+                         length * w / MM**2, (), "scene.floor_drop", 1, (), caption,
+                         (_rect(0, 0, w, length), _line(0, length - foot, w, length - foot))))  # upright
+    return out

@@ -103,17 +103,22 @@ def drawn(piece: Piece) -> Part:
     return Part(piece.name, list(piece.caption), els, x1 - x0, y0, y1 - y0, piece.id)
 
 
-def stand_scale(cfg: Config) -> int:
-    d, s = cfg.design, cfg.scene
-    span = (s.frames - 1) * s.pitch * 1e3 + (d.La + d.Lb) * 1e3 + 2 * END
-    return next((k for k in (1, 2, 4, 5, 10, 20, 50) if span / k <= PAGE_W - 2 * MARGIN), 100)
+SCALES = (1, 2, 4, 5, 10, 20, 50, 100)
 
 
 def stand(cfg: Config) -> Part:
+    """The side view at the largest of ``SCALES``' 1:k that fits the page's width."""
+    for k in SCALES:
+        part = stand_at(cfg, k)
+        if part.width <= PAGE_W - 2 * MARGIN:
+            return part
+    return part
+
+
+def stand_at(cfg: Config, k: int) -> Part:
     """A side view of the row at 1:k: the skewer axes, each frame at its rest angle on its stopper,
     the end stop's skewer, and the floor."""
     d, s = cfg.design, cfg.scene
-    k = stand_scale(cfg)
     f = 1e3 / k  # metres to drawn mm
 
     def at(x_m, y_m):  # world (y up) to drawing (y down)
