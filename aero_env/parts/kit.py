@@ -100,8 +100,8 @@ def side_card(cfg) -> Piece:
         "swing frame side card", "part-frame-side-card", 2 * frames, n, area, (), "design.m1", 2, (),
         (f"SWING FRAME SIDE CARD: {_plural(2 * frames, 'card')} ({2 * frames * n} cuts): 2 per frame, each "
          f"{_layers_text(n)}; {L:.1f} x {D:.1f} mm.",
-         f"{HOLE_TEXT} (the frame's axis). Red line: the handrail's seat, Lb = {d.Lb * MM:.1f} mm from the hole.",
-         f"Red cross: the counterbalance's centre, La = {d.La * MM:.1f} mm along and h = {h:+.1f} mm across "
+         f"{HOLE_TEXT} (the frame's axis). Black line: the handrail's seat, Lb = {d.Lb * MM:.1f} mm from the hole.",
+         f"Black cross: the counterbalance's centre, La = {d.La * MM:.1f} mm along and h = {h:+.1f} mm across "
          f"(above the line when the seat is on the left)."),
         tuple(shapes))
 
@@ -147,7 +147,8 @@ def counterbalance(cfg) -> Piece:
         "counterbalance", "part-counterbalance", frames, 0, 0.0, added, "design.m3", 1, (),
         (f"COUNTERBALANCE: {frames}, 1 per frame, no card: {_plural(coins, 'one-yen coin')} and {clay * 1e3:.2f} g of "
          f"modelling clay ({d.m3 * 1e3:.2f} g),",
-         "pressed between the side cards, centred on the red cross (the circle: a coin's size, not a cut)."),
+         "pressed between the side cards, centred on the side card's black cross (the circle: a coin's size, "
+         "not a cut)."),
         (_circle(r, 0, r, "mark"), *_cross(r, 0)))
 
 
@@ -170,13 +171,14 @@ def torso(cfg) -> Piece:
     n, w, length = int(t["layers"]), t["width"] * MM, t["length"] * MM
     end, coin_at, r = build.END * MM, d.coin_offset * MM, d.coin_radius * MM
     coins = d.coin_mass / build.YEN_COIN
-    coins_text = f"{coins:.0f} one-yen coins" if abs(coins - round(coins)) < 1e-6 else f"{d.coin_mass * 1e3:.2f} g of coins"
+    whole = abs(coins - round(coins)) < 1e-6
+    coins_text = f"{coins:.0f} one-yen coins" if whole else f"{d.coin_mass * 1e3:.2f} g of coins"
     return Piece(
         "torso", "part-torso", 1, n, (length * w - math.pi * HOLE_R**2) / MM**2, ((coins_text, d.coin_mass),),
         "design.m2", 1, (),
         (f"TORSO: 1, {_layers_text(n)}; {length:.1f} x {w:.1f} mm. {HOLE_TEXT} (the axle).",
-         f"Hole to the bottom edge: {d.torso_length * MM:.1f} mm (Ld = {d.Ld * MM:.0f} mm from the hook with the arm at "
-         f"{d.alpha_max_deg:.0f} deg). Glue the {coins_text} in the gray circle, flush with the bottom."),
+         f"Hole to the bottom edge: {d.torso_length * MM:.1f} mm (Ld = {d.Ld * MM:.0f} mm from the hook with the arm "
+         f"at {d.alpha_max_deg:.0f} deg). Glue the {coins_text} in the black circle, flush with the bottom."),
         (_rect(0, 0, length, w), _circle(end, w / 2, HOLE_R), _circle(end + coin_at, w / 2, r, "mark")))
 
 
@@ -299,9 +301,10 @@ def crossbeam_segments(cfg) -> list[Piece]:
                  f"{_layers_text(CROSSBEAM_LAYERS)}; {width:.1f} x {height:.1f} mm, frames {a}-{b}.")
         rest_text = (f"Holes Ø{2 * SNUG_R:.1f} mm, the skewers snug: on the beam's line each frame's axis, "
                      f"{step:.1f} mm apart ({s.pitch * MM:.1f} mm pitch, {s.rise * MM:+.1f} mm rise); beside each, the "
-                     f"rest stopper and the end stopper. Black line: the frame line at rest ({d.rest_angle_deg:.0f} deg "
-                     f"from level), pointing to the counterbalance's side; the crossbeam's line rises "
-                     f"{math.degrees(beta):.1f} deg, so stand it with the line at that angle to the floor.")
+                     f"rest stopper and the end stopper. Black line: the frame line at rest "
+                     f"({d.rest_angle_deg:.0f} deg from level), pointing to the counterbalance's side; the "
+                     f"crossbeam's line rises {math.degrees(beta):.1f} deg, so stand it with the line at that angle "
+                     f"to the floor.")
         caption = (first, rest_text) if k == 0 else (
             first, f"Overlap segment {k}'s last axis: a skewer through the shared holes lines them up; glue.")
         segments.append(Piece(f"crossbeam {k + 1}", f"part-crossbeam-{k + 1}", 2, CROSSBEAM_LAYERS, area / MM**2, (),

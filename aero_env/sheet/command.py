@@ -56,8 +56,8 @@ def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str
                f"its row**: {r.traversals} of {r.frames - 1} transfers ({r.outcome}: {r.reason}).")
     from .troubleshoot import frame_balance, table
 
-    return "\n".join([f"# Build sheet: {config_name}", "", verdict, "", robustness_line(cfg, config_name, draws, seed, progress, compare),
-                      "",
+    robust = robustness_line(cfg, config_name, draws, seed, progress, compare)
+    return "\n".join([f"# Build sheet: {config_name}", "", verdict, "", robust, "",
                       *rows, "",
                       "## Bench checks", "",
                       "- **The spring**: the bench check in the table above (a load at the hook tip, the arm's turn).",
