@@ -1,6 +1,7 @@
 """The ``aero-env`` command line.
 
     aero-env simulate CONFIG [--set KEY=VALUE ...] [--json] [--trace FILE.csv] [--plot FILE.png] [--gif FILE.gif]
+                             [--labels]
     aero-env compare CONFIG [--set KEY=VALUE ...] [--json] [--plot FILE.png] [--domain-map FILE.png]
     aero-env schema          # every config key with its default, unit, range and meaning
     aero-env calibrate | robustness | cycle CONFIG ...   # fit unknowns; hand-made builds; the limit cycle
@@ -90,7 +91,7 @@ def cmd_simulate(args) -> int:
 
         print(f"aero-env simulate: encoding {len(result.poses or ())} frames to {args.gif} ...", file=sys.stderr,
               flush=True)
-        write_gif(result, args.gif)
+        write_gif(result, args.gif, labels=args.labels, slowmo=cfg.env.render_slowmo)
     if args.json:
         print(json.dumps(result.to_json_dict(), indent=2))
     else:
@@ -254,6 +255,8 @@ def build_parser() -> argparse.ArgumentParser:
     sp.add_argument("--trace", metavar="FILE.csv", help="write the time trace as CSV")
     sp.add_argument("--plot", metavar="FILE.png", help="plot theta1 and theta2 against time (the paper's Fig. 40)")
     sp.add_argument("--gif", metavar="FILE.gif", help="animate the machine (env.render_slowmo times slower than real time)")
+    sp.add_argument("--labels", action="store_true", help="--gif: name the parts and say the slow-motion factor "
+                                                          "(a classroom's animation)")
     sp.set_defaults(func=cmd_simulate)
     cp = _scene_command(sub, "compare", "quasi-static vs two-link vs MBD on one scene (the paper's Figs. 40, 42, 43)")
     cp.add_argument("--swing", type=int, default=1, metavar="N",

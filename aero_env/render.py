@@ -124,9 +124,10 @@ class Canvas:
         _t, _angles, torso_pos, _torso_angle, arm_angle = pose
         return _add(torso_pos, _rot((self.g["arm_length"], 0.0), arm_angle))
 
-    def draw(self, pose, caption: str = "", path: list | None = None) -> np.ndarray:
+    def draw(self, pose, caption: str = "", path: list | None = None, labels: bool = False) -> np.ndarray:
         """One frame: the row at ``pose`` (t, frame angles, torso position, torso angle, arm angle),
-        optionally with the hook's ``path`` (SI points) traced behind it."""
+        optionally with the hook's ``path`` (SI points) traced behind it; ``labels`` names the parts of the
+        first frame and the robot beside them (a classroom's animation)."""
         from PIL import Image, ImageDraw
 
         g, px = self.g, self.px
@@ -160,6 +161,17 @@ class Canvas:
         hx, hy = px(hook)
         d.ellipse([hx - 3, hy - 3, hx + 3, hy + 3], outline=(200, 40, 40), width=2)
         d.text((8, 6), f"t = {t:5.2f} s" + (f"   {caption}" if caption else ""), fill=(0, 0, 0))
+        if labels:
+            (ax, ay), th = g["axes"][0], angles[0]
+            at = lambda v: px(_add((ax, ay), _rot(v, th)))  # noqa: E731  a point of frame 0, drawn
+            for text, (x, y), (dx, dy) in (
+                    ("swing frame", at((0.5 * La, 0.0)), (6, -16)),
+                    ("counterbalance", at((La, h)), (8, -4)),
+                    ("handrail", at((-Lb, 0.0)), (-60, -16)),
+                    ("axis skewer", px((ax, ay)), (6, 4)),
+                    ("spring (at the axle)", px(torso_pos), (10, -6)),
+                    ("robot", px(torso_end), (8, -4))):
+                d.text((x + dx, y + dy), text, fill=(60, 60, 60))
         return np.asarray(img)
 
 
@@ -168,16 +180,18 @@ def _need_poses(result: SimResult) -> None:
         raise ValueError("this result has no poses: simulate(..., poses_every=...)")
 
 
-def iter_frames(result: SimResult, width: int = 720, height: int = 300, every: int = 1) -> Iterator[np.ndarray]:
+def iter_frames(result: SimResult, width: int = 720, height: int = 300, every: int = 1, caption: str = "",
+                labels: bool = False) -> Iterator[np.ndarray]:
     """The recorded poses as RGB numpy arrays (height, width, 3), drawn one at a time."""
     _need_poses(result)
     canvas = Canvas(result.geometry, width, height)
-    return (canvas.draw(pose) for pose in result.poses[::every])
+    return (canvas.draw(pose, caption, labels=labels) for pose in result.poses[::every])
 
 
-def draw_frames(result: SimResult, width: int = 720, height: int = 300, every: int = 1) -> list[np.ndarray]:
+def draw_frames(result: SimResult, width: int = 720, height: int = 300, every: int = 1, caption: str = "",
+                labels: bool = False) -> list[np.ndarray]:
     """Render the recorded poses as a list of RGB numpy arrays (height, width, 3)."""
-    return list(iter_frames(result, width, height, every))
+    return list(iter_frames(result, width, height, every, caption, labels))
 
 
 def draw_summary(result: SimResult, width: int = 720, height: int = 300) -> np.ndarray:
@@ -189,10 +203,14 @@ def draw_summary(result: SimResult, width: int = 720, height: int = 300) -> np.n
     return canvas.draw(result.poses[-1], caption, path)
 
 
-def write_gif(result: SimResult, path: str | Path, fps: int = ANIMATION_FPS) -> None:
+def write_gif(result: SimResult, path: str | Path, fps: int = ANIMATION_FPS, labels: bool = False,
+              slowmo: float | None = None) -> None:
+    """The recorded poses as an animated GIF; ``labels`` names the parts, and ``slowmo`` (the factor the poses were
+    recorded for) is then said in the caption."""
     from PIL import Image
 
-    rgb = draw_frames(result)
+    caption = f"slow motion x{slowmo:g}" if labels and slowmo else ""
+    rgb = draw_frames(result, caption=caption, labels=labels)
     # One shared palette (the drawing uses a dozen colours): per-frame quantization is 5x slower.
     palette = Image.fromarray(rgb[len(rgb) // 2]).quantize(colors=32, method=Image.Quantize.MEDIANCUT)
     frames = [Image.fromarray(f).quantize(palette=palette, dither=Image.Dither.NONE) for f in rgb]

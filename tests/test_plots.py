@@ -106,3 +106,31 @@ def test_accuracy_plot_labels_do_not_overlap():
     boxes = {t.get_text(): t.get_window_extent() for t in texts}
     for (a, box_a), (b, box_b) in itertools.combinations(boxes.items(), 2):
         assert not box_a.overlaps(box_b), (a, b)
+
+
+def test_a_classroom_gif_names_the_parts_beside_them_and_says_its_slow_motion(tmp_path):
+    """--labels writes the parts' names next to frame 0's parts and the robot, and the slow-motion factor in the
+    caption: the labelled frame differs from the plain one near each part it names and in the caption's line."""
+    from aero_env.render import iter_frames, pose_interval
+    from aero_env.simulation import simulate
+
+    cfg = load_config(PAPER).replace({"scene.frames": 2})
+    run = simulate(cfg, poses_every=pose_interval(cfg.env.render_slowmo))
+    pose = run.poses[len(run.poses) // 3]
+    canvas = Canvas(run.geometry, 720, 300)
+    plain, labelled = canvas.draw(pose), canvas.draw(pose, "slow motion x4", labels=True)
+    changed = np.any(plain != labelled, axis=-1)
+    _t, angles, torso_pos, torso_angle, _arm = pose
+    g = run.geometry
+    (ax, ay), th = g["axes"][0], angles[0]
+    rot = lambda v: (ax + v[0] * np.cos(th) - v[1] * np.sin(th), ay + v[0] * np.sin(th) + v[1] * np.cos(th))  # noqa
+    bottom = (torso_pos[0] + np.sin(torso_angle) * g["torso_length"],
+              torso_pos[1] - np.cos(torso_angle) * g["torso_length"])
+    parts = [rot((0.5 * g["La"], 0.0)), rot((g["La"], g["h"])), rot((-g["Lb"], 0.0)), (ax, ay), torso_pos, bottom]
+    for p in parts:  # some text within 80 px of each named part
+        x, y = (int(v) for v in canvas.px(p))
+        assert changed[max(0, y - 30):y + 30, max(0, x - 80):x + 120].any(), p
+    assert changed[:18].any()  # the caption's line says the slow motion
+    assert main(["simulate", str(PAPER), "--set", "scene.frames=2", "--gif", str(tmp_path / "c.gif"), "--labels"]) \
+        in (0, None)
+    assert len(list(iter_frames(run, labels=True))) == len(run.poses)
