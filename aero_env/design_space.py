@@ -4,7 +4,11 @@ A config's ``tunable`` list is the action space: action ``a`` in [-1, 1] maps on
 ``[low, high]`` (for a tunable with ``relative_to``, those multiplied by that field's value in
 the config: :meth:`Config.tunable_range`) linearly (``low + (a + 1)/2·(high - low)``) or geometrically
 (``low·(high/low)^((a + 1)/2)``). A tunable's ``linked`` fields follow it by the same
-factor relative to the config's values (so mu_k keeps its ratio to mu_s).
+factor relative to the config's values (so mu_k keeps its ratio to mu_s). A tunable with a
+``step`` snaps to its nearest multiple inside the range (m3 to the 0.1 g a kitchen scale reads);
+one with ``choices`` cuts the action's [-1, 1] into equal bins, one per choice, and sets the
+field and its linked keys to that choice's values (a measured card pair). Either way a design
+the action names is one a maker can build.
 
 At each reset the ``context`` (what the designer knows of the scene: observed) and the
 ``tolerance`` draws (manufacturing error the designer does not know: not observed) come from
@@ -39,6 +43,23 @@ class Draw:
     tolerance_u: tuple
 
 
+def _snap(v: float, step: float, low: float, high: float) -> float:
+    """``v`` to the nearest multiple of ``step``, kept inside [low, high] (the nearest multiple there)."""
+    v = round(v / step) * step
+    if v < low:
+        v = max(math.ceil(low / step - 1e-9) * step, low)  # a bound on the grid stays the bound, to the last bit
+    if v > high:
+        v = min(math.floor(high / step + 1e-9) * step, high)
+    return v
+
+
+def _snap_columns(v: np.ndarray, step: float, low: float, high: float) -> np.ndarray:
+    """:func:`_snap` of every entry, by the same double operations (numpy rounds half to even, as round does)."""
+    v = np.round(v / step) * step
+    v = np.where(v < low, max(math.ceil(low / step - 1e-9) * step, low), v)
+    return np.where(v > high, min(math.floor(high / step + 1e-9) * step, high), v)
+
+
 class DesignSpace:
     def __init__(self, cfg: Config):
         self.cfg = cfg
@@ -67,9 +88,15 @@ class DesignSpace:
         out: dict[str, float] = {}
         for t, (low, high), a in zip(self.tunables, self.ranges, action):
             x = (float(a) + 1.0) / 2.0
+            if t.choices:  # one of a maker's choices, a bin of the box each: the field and its linked keys
+                row = t.choices[min(math.floor(x * len(t.choices)), len(t.choices) - 1)]
+                out.update(zip((t.name, *t.linked), row))
+                continue
             # low·(1-x) + high·x gives low and high exactly at the box's edges
             v = low * (high / low) ** x if t.scale == "log" else low * (1.0 - x) + high * x
             v = min(max(v, low), high)  # rounding must never step outside the declared range
+            if t.step is not None:
+                v = _snap(v, t.step, low, high)
             out[t.name] = v
             out.update(self._follow(t, v))
         return out
@@ -81,6 +108,12 @@ class DesignSpace:
         out: dict[str, np.ndarray] = {}
         for j, (t, (low, high)) in enumerate(zip(self.tunables, self.ranges)):
             x = (actions[:, j].astype(np.float64) + 1.0) / 2.0
+            if t.choices:
+                n = len(t.choices)
+                pick = np.minimum(np.floor(x * n), n - 1).astype(np.intp)
+                for k, key in enumerate((t.name, *t.linked)):
+                    out[key] = np.array([row[k] for row in t.choices], dtype=np.float64)[pick]
+                continue
             if t.scale == "log":
                 ratio = high / low
                 v = np.array([low * ratio ** xj for xj in x.tolist()], dtype=np.float64)
@@ -90,6 +123,8 @@ class DesignSpace:
             # (np.maximum(0.0, -0.0) gives -0.0 where max gives 0.0, and the model tells the two apart)
             v = np.where(low > v, low, v)
             v = np.where(high < v, high, v)
+            if t.step is not None:
+                v = _snap_columns(v, t.step, low, high)
             out[t.name] = v
             out.update(self._follow(t, v))
         return out
@@ -113,6 +148,16 @@ class DesignSpace:
         a = np.empty(self.dim, dtype=dtype)
         for i, (t, (low, high)) in enumerate(zip(self.tunables, self.ranges)):
             v = float(values.get(t.name, self.cfg.value(t.name)))
+            if t.choices:  # the middle of the choice's bin
+                leaders = [row[0] for row in t.choices]
+                if v not in leaders:
+                    raise ConfigError(f"{t.name} = {v!r}: not one of tunable[{i}]'s choices {leaders} (a maker's "
+                                      f"measured values)")
+                a[i] = -1.0 + (2 * leaders.index(v) + 1) / len(leaders)
+                continue
+            if t.step is not None and abs(v / t.step - round(v / t.step)) > 1e-6:
+                raise ConfigError(f"{t.name} = {v!r}: not a multiple of tunable[{i}].step = {t.step!r} (what a maker "
+                                  f"can set); the nearest is {round(v / t.step) * t.step:.6g}")
             if not low <= v <= high:
                 raise ConfigError(f"{t.name} = {v!r}: outside tunable[{i}]'s range [{low:.6g}, {high:.6g}]")
             x = math.log(v / low) / math.log(high / low) if t.scale == "log" else (v - low) / (high - low)

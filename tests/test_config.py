@@ -166,7 +166,7 @@ def test_design_problem_sections_load_and_round_trip(tmp_path):
     ({"tunable": [{"name": "design.h", "low": -0.01, "high": 0.01, "scale": "log"}]},
      "tunable[0].low = -0.01: a log scale needs low > 0"),
     ({"tunable": [{"name": "design.m3", "low": -1, "high": 0.01}]}, "tunable[0].low (a value of design.m3) = -1"),
-    ({"tunable": [{"name": "design.m3", "low": 0.005, "high": 0.01, "step": 1}]}, "tunable[0].step: unknown key"),
+    ({"tunable": [{"name": "design.m3", "low": 0.005, "high": 0.01, "stride": 1}]}, "tunable[0].stride: unknown key"),
     ({"tunable": [{"name": "scene.effects.drag", "low": 0, "high": 1}]}, "not a real-valued design or scene field"),
     ({"tunable": [{"name": "design.m3", "low": 0.005, "high": 0.01}] * 2}, "listed twice"),
     ({"tunable": [{"name": "design.mu_s", "low": 0.5, "high": 1, "linked": ["design.mu_s"]}]}, "linked to itself"),

@@ -31,6 +31,14 @@ class Tunable:
     relative_to: str | None = _item("a dotted key: low and high are then multiples of that field's value in the "
                                     "config, so the range follows the scene (absent: low and high are in the "
                                     "field's own unit)", default=None)
+    step: float | None = _item("a maker's resolution: the value snaps to the nearest multiple of step inside [low, "
+                               "high] (design.m3: 0.1 g, what a kitchen scale reads, so whole coins plus clay); "
+                               "absent: continuous", "field's", default=None)
+    choices: tuple = _item("the values a maker can choose from, each a list: this field's value, then each linked "
+                           "key's (design.mu_s with linked [design.mu_k]: the measured card pairs of Table 3, "
+                           "[[0.507, 0.337], [0.542, 0.409], [0.283, 0.149]]); the action's [-1, 1] is cut into "
+                           "equal bins, one per choice, in the order listed; low and high may then be left out",
+                           default=())
 
 
 @dataclass(frozen=True)
@@ -107,6 +115,8 @@ def _bound(entry: Mapping, key: str, where: str, name: str, f: dataclasses.Field
 
 
 def _tunable(entry, where, name, f) -> Tunable:
+    if entry.get("choices"):  # an empty list (a config written back without choices) is none
+        return _chosen(entry, where, name, f)
     for key in ("low", "high"):
         if key not in entry:
             raise ConfigError(f"{where}.{key}: missing; the value of {name} at action {'-1' if key == 'low' else '+1'}")
@@ -127,8 +137,53 @@ def _tunable(entry, where, name, f) -> Tunable:
         raise ConfigError(f"{where}.scale = {scale!r}: must be one of ['linear', 'log']")
     if scale == "log" and low <= 0:
         raise ConfigError(f"{where}.low = {low!r}: a log scale needs low > 0, allowed (0, {high})")
+    step = _step(entry, where, name, f, low, high, relative_to)
     return Tunable(name, low, high, scale, _linked(entry, where, name),
-                   None if relative_to is None else str(relative_to))
+                   None if relative_to is None else str(relative_to), step)
+
+
+def _step(entry, where, name, f, low, high, relative_to) -> float | None:
+    """A tunable's ``step``, in its field's unit, with at least one multiple of it inside an absolute range."""
+    if entry.get("step") is None:
+        return None
+    step, _ = with_unit(f"{where}.step (a step of {name})", entry["step"], f.metadata["unit"])
+    if isinstance(step, bool) or not isinstance(step, (int, float)) or not math.isfinite(step) or not step > 0:
+        raise ConfigError(f"{where}.step = {step!r}: must be a finite number > 0 in {name}'s unit "
+                          f"({f.metadata['unit']}), e.g. 0.1 g")
+    if relative_to is None and math.ceil(low / step - 1e-9) * step > high * (1 + 1e-12):
+        raise ConfigError(f"{where}.step = {step!r}: no multiple of it lies in [{low}, {high}]; allowed (0, "
+                          f"{high - low}]")
+    return float(step)
+
+
+def _chosen(entry, where, name, f) -> Tunable:
+    """A tunable whose values are a list of a maker's choices (a card pair: mu_s with its mu_k)."""
+    for key in ("relative_to", "step", "scale"):
+        if entry.get(key) not in (None, "linear" if key == "scale" else None):
+            raise ConfigError(f"{where}.{key}: not allowed with choices (each choice is a value, not a range)")
+    linked = _linked(entry, where, name)
+    rows = entry["choices"]
+    if isinstance(rows, (str, bytes)) or not isinstance(rows, (list, tuple)) or len(rows) < 2:
+        raise ConfigError(f"{where}.choices = {rows!r}: must be a list of at least 2 choices, each a list of "
+                          f"{1 + len(linked)} numbers ({', '.join((name, *linked))})")
+    keys = (name, *linked)
+    out = []
+    for j, row in enumerate(rows):
+        if not isinstance(row, (list, tuple)) or len(row) != len(keys):
+            raise ConfigError(f"{where}.choices[{j}] = {row!r}: must be a list of {len(keys)} numbers, the values of "
+                              f"{', '.join(keys)}")
+        out.append(tuple(check_value(f"{where}.choices[{j}][{k}] (a value of {key})", real_field(key, where), v)
+                         for k, (key, v) in enumerate(zip(keys, row))))
+    leaders = [row[0] for row in out]
+    if len(set(leaders)) != len(leaders):
+        raise ConfigError(f"{where}.choices: two choices give {name} the same value; each must differ in it")
+    low, high = min(leaders), max(leaders)
+    for key in ("low", "high"):
+        if entry.get(key) is not None and _bound(entry, key, where, name, f) != (low if key == "low" else high):
+            raise ConfigError(f"{where}.{key} = {entry[key]!r}: with choices it is the choices' "
+                              f"{'least' if key == 'low' else 'greatest'} {name}, {low if key == 'low' else high!r} "
+                              f"(or leave it out)")
+    return Tunable(name, low, high, "linear", linked, None, None, tuple(out))
 
 
 def _linked(entry: Mapping, where: str, name: str) -> tuple:

@@ -113,7 +113,16 @@ class AerialAcrobatEnv(gym.Env):
     | 4   | design.mu_s      | 0.2   | 1.5   | (absolute)       | log    | 0.2-1.5          | -       |
 
     ``design.mu_s`` is linked to ``design.mu_k``: both scale by one factor, so the card pair
-    keeps its kinetic/static ratio. ``env.action_for()`` gives the action of the config's own
+    keeps its kinetic/static ratio.
+
+    **A maker's choices.** The action stays a ``Box`` (what every Gymnasium algorithm takes), and
+    a tunable may map it onto the nearest design a maker can build: ``step`` snaps the value to
+    its nearest multiple in the range (``step: 0.1 g`` on ``design.m3``: whole one-yen coins and
+    clay weighed on a kitchen scale), and ``choices`` cuts ``[-1, 1]`` into equal bins, one per
+    listed choice, each setting the field and its ``linked`` keys (``design.mu_s`` and
+    ``design.mu_k`` from Table 3's three measured card pairs). ``configs/small_frames.yaml``, the
+    maker's example, searches that way; a policy or a tuner then never names a design that
+    cannot be cut, weighed and glued. ``env.action_for()`` gives the action of the config's own
     design (the prototype's with ``configs/paper.yaml``). An action outside the box, of the
     wrong shape, or with NaN raises ``ConfigError`` naming the dimension, its field and the
     allowed range; with ``env.action_out_of_box: clip`` an out-of-box (finite) action is clipped.
