@@ -97,3 +97,20 @@ def test_a_tuned_buildable_design_reads_as_whole_coins_and_a_card_pair_on_its_sh
     coins = cfg.design.m3 * 1e3
     assert f"{math.floor(coins + 1e-9)} one-yen coins + {coins - math.floor(coins + 1e-9):.2f} g clay" in sheet
     assert "gray arm on gray handrail" in sheet and "within 0 %" in sheet
+
+
+SOLUTIONS = sorted((ROOT / "configs/scenes/solutions").glob("*.yaml"))
+
+
+@pytest.mark.parametrize("path", SOLUTIONS, ids=lambda p: p.stem)
+def test_every_stored_scene_solution_is_a_design_a_maker_can_build(path):
+    """Each scene's answer is a point of its own space of a maker's choices: its counterbalance a whole number of
+    tenths of a gram (coins and clay), its card pair one Table 3 measured."""
+    cfg = load_config(path)
+    space = DesignSpace(cfg)
+    assert any(t.step for t in space.tunables if t.name == "design.m3")
+    tenths = cfg.design.m3 * 1e4
+    assert abs(tenths - round(tenths)) < 1e-6, cfg.design.m3
+    assert (cfg.design.mu_s, cfg.design.mu_k) in TABLE_3
+    v = space.values(space.action_for(dtype=np.float64))  # refused if off the grid or not a choice
+    assert all(v[k] == pytest.approx(cfg.value(k), rel=1e-9) for k in v)
