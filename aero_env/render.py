@@ -124,10 +124,12 @@ class Canvas:
         _t, _angles, torso_pos, _torso_angle, arm_angle = pose
         return _add(torso_pos, _rot((self.g["arm_length"], 0.0), arm_angle))
 
-    def draw(self, pose, caption: str = "", path: list | None = None, labels: bool = False) -> np.ndarray:
+    def draw(self, pose, caption: str = "", path: list | None = None, labels: bool = False,
+             robot: bool = True) -> np.ndarray:
         """One frame: the row at ``pose`` (t, frame angles, torso position, torso angle, arm angle),
         optionally with the hook's ``path`` (SI points) traced behind it; ``labels`` names the parts of the
-        first frame and the robot beside them (a classroom's animation)."""
+        first frame and the robot beside them (a classroom's animation); ``robot=False`` draws the stand and its
+        frames alone (an assembly step)."""
         from PIL import Image, ImageDraw
 
         g, px = self.g, self.px
@@ -152,6 +154,9 @@ class Canvas:
             d.ellipse([ox - 3, oy - 3, ox + 3, oy + 3], fill=(0, 0, 0))  # axis skewer
         if path and len(path) > 1:
             d.line([px(q) for q in path], fill=(230, 150, 150), width=1)
+        if not robot:
+            d.text((8, 6), caption, fill=(0, 0, 0))
+            return np.asarray(img)
         torso_end = _add(torso_pos, _rot((0.0, -g["torso_length"]), torso_angle))
         d.line([px(torso_pos), px(torso_end)], fill=(30, 90, 200), width=6)  # torso card strip
         cx, cy = px(_add(torso_pos, _rot((0.0, -g["coin_offset"]), torso_angle)))  # the coins

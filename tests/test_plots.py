@@ -134,3 +134,18 @@ def test_a_classroom_gif_names_the_parts_beside_them_and_says_its_slow_motion(tm
     assert main(["simulate", str(PAPER), "--set", "scene.frames=2", "--gif", str(tmp_path / "c.gif"), "--labels"]) \
         in (0, None)
     assert len(list(iter_frames(run, labels=True))) == len(run.poses)
+
+
+def test_the_assembly_pictures_show_the_stand_alone_then_the_robot_on_it(tmp_path):
+    """scripts/draw_assembly.py: picture 1 is the stand and its frames with no robot drawn, pictures 2-4 the robot
+    (its torso's colour) hooked, flying and caught."""
+    import subprocess
+    import sys
+
+    from .conftest import ROOT
+
+    subprocess.run([sys.executable, str(ROOT / "scripts/draw_assembly.py"), str(PAPER), str(tmp_path / "a")],
+                   check=True, capture_output=True)
+    torso = [np.all(np.asarray(Image.open(tmp_path / f"a_{i}.png").convert("RGB")) == (30, 90, 200), axis=-1).any()
+             for i in (1, 2, 3, 4)]
+    assert torso == [False, True, True, True]
