@@ -89,7 +89,7 @@ class DesignSpace:
         for t, (low, high), a in zip(self.tunables, self.ranges, action):
             x = (float(a) + 1.0) / 2.0
             if t.choices:  # one of a maker's choices, a bin of the box each: the field and its linked keys
-                row = t.choices[min(math.floor(x * len(t.choices)), len(t.choices) - 1)]
+                row = t.choices[min(max(math.floor(x * len(t.choices)), 0), len(t.choices) - 1)]
                 out.update(zip((t.name, *t.linked), row))
                 continue
             # low·(1-x) + high·x gives low and high exactly at the box's edges
@@ -110,7 +110,7 @@ class DesignSpace:
             x = (actions[:, j].astype(np.float64) + 1.0) / 2.0
             if t.choices:
                 n = len(t.choices)
-                pick = np.minimum(np.floor(x * n), n - 1).astype(np.intp)
+                pick = np.clip(np.floor(x * n), 0, n - 1).astype(np.intp)
                 for k, key in enumerate((t.name, *t.linked)):
                     out[key] = np.array([row[k] for row in t.choices], dtype=np.float64)[pick]
                 continue
@@ -153,6 +153,12 @@ class DesignSpace:
                 if v not in leaders:
                     raise ConfigError(f"{t.name} = {v!r}: not one of tunable[{i}]'s choices {leaders} (a maker's "
                                       f"measured values)")
+                row = t.choices[leaders.index(v)]
+                for key, want in zip(t.linked, row[1:]):
+                    have = float(self.cfg.value(key))
+                    if have != want:  # the config's other value of the pair is not the choice's
+                        raise ConfigError(f"{key} = {have!r}: tunable[{i}]'s choice with {t.name} = {v!r} sets it to "
+                                          f"{want!r}; give the pair as listed")
                 a[i] = -1.0 + (2 * leaders.index(v) + 1) / len(leaders)
                 continue
             if t.step is not None and abs(v / t.step - round(v / t.step)) > 1e-6:
@@ -285,7 +291,18 @@ class DesignSpace:
 
     # ---- validation ----
     def _check_corners(self) -> None:
-        """Every corner of actions x context x tolerances must be a valid design."""
+        """Every corner of actions x context x tolerances must be a valid design, and every listed choice (the
+        corners reach only a list's first and last)."""
+        base = self.action_for(dtype=np.float64) if self.dim else np.zeros(0)
+        for j, t in enumerate(self.tunables):
+            for k in range(len(t.choices)):
+                a = base.copy()
+                a[j] = -1.0 + (2 * k + 1) / len(t.choices)
+                try:
+                    self.episode_config(self.values(a), self.nominal_draw())
+                except ConfigError as exc:
+                    raise ConfigError(f"tunable[{j}].choices[{k}] = {list(t.choices[k])}: not a valid design with the "
+                                      f"config's other values: {exc}") from None
         varied_ctx = self.varied_context
         n = self.dim + len(varied_ctx) + len(self.tolerances)
         signs = [(-1.0, 1.0)] * n

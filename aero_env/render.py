@@ -156,6 +156,8 @@ class Canvas:
             d.line([px(q) for q in path], fill=(230, 150, 150), width=1)
         if not robot:
             d.text((8, 6), caption, fill=(0, 0, 0))
+            if labels:
+                self._labels(d, angles, None, None)
             return np.asarray(img)
         torso_end = _add(torso_pos, _rot((0.0, -g["torso_length"]), torso_angle))
         d.line([px(torso_pos), px(torso_end)], fill=(30, 90, 200), width=6)  # torso card strip
@@ -167,17 +169,20 @@ class Canvas:
         d.ellipse([hx - 3, hy - 3, hx + 3, hy + 3], outline=(200, 40, 40), width=2)
         d.text((8, 6), f"t = {t:5.2f} s" + (f"   {caption}" if caption else ""), fill=(0, 0, 0))
         if labels:
-            (ax, ay), th = g["axes"][0], angles[0]
-            at = lambda v: px(_add((ax, ay), _rot(v, th)))  # noqa: E731  a point of frame 0, drawn
-            for text, (x, y), (dx, dy) in (
-                    ("swing frame", at((0.5 * La, 0.0)), (6, -16)),
-                    ("counterbalance", at((La, h)), (8, -4)),
-                    ("handrail", at((-Lb, 0.0)), (-60, -16)),
-                    ("axis skewer", px((ax, ay)), (6, 4)),
-                    ("spring (at the axle)", px(torso_pos), (10, -6)),
-                    ("robot", px(torso_end), (8, -4))):
-                d.text((x + dx, y + dy), text, fill=(60, 60, 60))
+            self._labels(d, angles, torso_pos, torso_end)
         return np.asarray(img)
+
+    def _labels(self, d, angles, torso_pos, torso_end) -> None:
+        """The parts' names beside frame 0's parts, and the robot's when it is drawn."""
+        g, px = self.g, self.px
+        (ax, ay), th = g["axes"][0], angles[0]
+        at = lambda v: px(_add((ax, ay), _rot(v, th)))  # noqa: E731  a point of frame 0, drawn
+        names = [("swing frame", at((0.5 * g["La"], 0.0)), (6, -16)), ("counterbalance", at((g["La"], g["h"])), (8, -4)),
+                 ("handrail", at((-g["Lb"], 0.0)), (-60, -16)), ("axis skewer", px((ax, ay)), (6, 4))]
+        if torso_pos is not None:
+            names += [("spring (at the axle)", px(torso_pos), (10, -6)), ("robot", px(torso_end), (8, -4))]
+        for text, (x, y), (dx, dy) in names:
+            d.text((x + dx, y + dy), text, fill=(60, 60, 60))
 
 
 def _need_poses(result: SimResult) -> None:

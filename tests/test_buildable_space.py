@@ -114,3 +114,17 @@ def test_every_stored_scene_solution_is_a_design_a_maker_can_build(path):
     assert (cfg.design.mu_s, cfg.design.mu_k) in TABLE_3
     v = space.values(space.action_for(dtype=np.float64))  # refused if off the grid or not a choice
     assert all(v[k] == pytest.approx(cfg.value(k), rel=1e-9) for k in v)
+
+
+@pytest.mark.parametrize("override, needle", [
+    ({"tunable": [{"name": "design.mu_s", "linked": ["design.mu_k"],
+                   "choices": [[0.507, 0.337], [0.3, 0.6], [0.542, 0.409]]}]},
+     "tunable[0].choices[1] = [0.3, 0.6]: not a valid design"),  # a middle choice, which no corner reaches
+    ({"tunable": [{"name": "design.m3", "low": 0.7835, "high": 0.7875, "relative_to": "design.m2", "step": "0.1 g"}]},
+     "tunable[0].step = 0.0001: no multiple of it lies in design.m3's range here"),  # relative: checked when posed
+    ({"design.mu_k": 0.3}, "design.mu_k = 0.3: tunable[4]'s choice with design.mu_s = 0.542 sets it to 0.409"),
+])
+def test_a_space_that_would_name_an_invalid_or_other_design_is_refused_when_posed(override, needle):
+    with pytest.raises(ConfigError) as e:
+        DesignSpace(load_config(SMALL, override))
+    assert needle in str(e.value) and "\n" not in str(e.value)

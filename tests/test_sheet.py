@@ -304,14 +304,16 @@ def test_the_troubleshooting_table_is_what_the_world_does_at_its_edges(paper_cfg
     assert checked >= 3
 
 
-def test_the_frame_balance_check_brackets_the_counterbalances_moment(paper_cfg):
+@pytest.mark.parametrize("dT", [0.0, 2e-4, -3e-4])
+def test_the_frame_balance_check_brackets_the_counterbalances_moment(paper_cfg, dT):
     from aero_env.sheet.troubleshoot import frame_balance
 
-    d = paper_cfg.design
-    lo, hi = (int(n) for n in re.search(r"with (\d+) one-yen coins .* with (\d+) seat-down", frame_balance(paper_cfg)).groups())
-    # held level, the moment about the skewer of the counterbalance (at La) against the handrail and n 1 g coins
-    # at the seat (at Lb): positive turns it counterbalance-down
-    moment = lambda n: d.m3 * d.La - (d.handrail_mass + n * 1e-3) * d.Lb  # noqa: E731
+    cfg = paper_cfg.replace({"design.dT": dT})
+    d, text = cfg.design, frame_balance(cfg)
+    lo, hi = (int(n) for n in re.search(r"with (\d+) one-yen coins .* with (\d+) seat-down", text).groups())
+    # held level, the moments about the skewer (N·m): the counterbalance at La turns it counterbalance-down; the
+    # handrail's card and n 1 g coins at the seat (Lb), and the frame's own dT (Eq. 1's sign), seat-down
+    moment = lambda n: d.m3 * 9.81 * d.La - (d.handrail_mass + n * 1e-3) * 9.81 * d.Lb - d.dT  # noqa: E731
     assert hi == lo + 1 and moment(lo) > 0 > moment(hi)
-    at = float(re.search(r"balances at ([0-9.]+)\)", frame_balance(paper_cfg)).group(1))
-    assert at == pytest.approx((d.m3 * d.La - d.handrail_mass * d.Lb) / (1e-3 * d.Lb), abs=0.05)  # 6.5 coins
+    at = float(re.search(r"balances at (-?[0-9.]+)\)", text).group(1))
+    assert moment(at) == pytest.approx(0.0, abs=0.05e-3 * 9.81 * d.Lb)  # to the printed tenth of a coin

@@ -6,6 +6,7 @@ Also the schema table (``aero-env schema``, docs/configuration.md) read from the
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, Mapping
@@ -39,6 +40,15 @@ class Config:
         if t.relative_to is None:
             return t.low, t.high
         i = self.tunable.index(t)
+        low, high = self._relative_range(t, i)
+        if t.step is not None and math.ceil(low / t.step - 1e-9) * t.step > high * (1 + 1e-12):
+            raise ConfigError(f"tunable[{i}].step = {t.step!r}: no multiple of it lies in {t.name}'s range here, "
+                              f"[{low:.6g}, {high:.6g}] ({t.low:g} to {t.high:g} x {t.relative_to}); allowed (0, "
+                              f"{high - low:.6g}]")
+        return low, high
+
+    def _relative_range(self, t: Tunable, i: int) -> tuple[float, float]:
+        """A relative tunable's range in its field's unit, each bound checked against the field's range."""
         base = float(self.value(t.relative_to))
         if not base > 0:
             raise ConfigError(f"tunable[{i}].relative_to = {t.relative_to!r}: its value in this config is {base!r}; a "

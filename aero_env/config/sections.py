@@ -38,7 +38,9 @@ class Design:
     Ld: float = spec(0.06, "m", "hook to the torso's bottom with the arm at alpha_max (Table 1, Appendix A): sets the "
                      "built torso's length; the paper's two-link model: sets I2 with Lc", 0.0, 0.5, lo_open=True)
     h: float = spec(0.005, "m", "counterbalance offset normal to the frame", -0.1, 0.1)
-    m1: float = spec(0.004, "kg", "swing frame mass (I1 = 2*m1/3*(La^2+Lb^2-La*Lb))", 0.0, 0.1, lo_open=True)
+    m1: float = spec(0.004, "kg", "swing frame mass: its two side cards, whose inertia the world takes as the kit "
+                     "builds them (aero_env/parts); the analytical models' A13: I1 = 2*m1/3*(La^2+Lb^2-La*Lb)", 0.0, 0.1,
+                     lo_open=True)
     m2: float = spec(0.00771, "kg", "robot mass as Table 1 counts it: torso card + coins + arm + the handrail "
                      "(handrail_mass, which the world puts on the frame)", 0.0, 0.1, lo_open=True)
     m3: float = spec(0.0072, "kg", "counterbalance mass (point mass at (La, h))", 0.0, 0.1, lo_open=True)
@@ -51,7 +53,8 @@ class Design:
     mu_s: float = spec(0.542, "-", "static friction, arm tip on handrail", 0.0, 10.0)
     mu_k: float = spec(0.409, "-", "kinetic friction, arm tip on handrail (<= mu_s)", 0.0, 10.0)
     arm_length: float = spec(0.03, "m", "arm: torso axle to hook tip", 0.0, 0.3, lo_open=True)
-    arm_mass: float = spec(0.0015, "kg", "arm mass (part of m2), a uniform rod", 0.0, 0.1, lo_open=True)
+    arm_mass: float = spec(0.0015, "kg", "arm mass (part of m2): a laminated card plate from behind the axle to the "
+                           "hook, as the kit builds it (aero_env/parts)", 0.0, 0.1, lo_open=True)
     coin_mass: float = spec(0.004, "kg", "coins on the torso (part of m2; four 1-yen coins of 1 g)", 0.0, 0.1)
     coin_radius: float = spec(0.01, "m", "coin radius (a 1-yen coin is 20 mm across)", 0.0, 0.1)
     handrail_mass: float = spec(0.00021, "kg", "the handrail's card, counted in m2 by Table 1 and carried by the "

@@ -19,7 +19,9 @@ Two conventions, each a named option of :func:`coefficients` (and of :func:`simu
 :func:`time_to_angle_batch`):
 
 ``inertia`` (the frame, I1): ``"consistent"`` uses I1 = 2·m1/3·(La²+Lb²-La·Lb); ``"paper"`` adds
-I3 as A13 does (counting the counterbalance twice, since eta1 already holds it).
+I3 as A13 does (counting the counterbalance twice, since eta1 already holds it); ``"parts"`` is the
+frame's two side cards as the kit builds them, what the pymunk world swings (``aero-env compare``
+uses it with ``robot="parts"``, so that it compares models of one machine).
 
 ``robot`` (the robot link: its mass m2, hook-to-centre distance Lc, inertia I2 about its centre,
 and what the frame carries at the seat):

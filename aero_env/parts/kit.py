@@ -88,10 +88,22 @@ def _layers_text(n: int) -> str:
     return "one layer" if n == 1 else f"{n} layers glued flat"
 
 
+NARROWEST = max(build.MIN_STRIP, build.HOLE_D + 2 * 1e-3) * MM  # mm: scissors, and card around a hole
+
+
+def _too_narrow(what: str, width: float) -> str:
+    """A caption's warning for a piece narrower than scissors cut or than a hole needs, "" otherwise."""
+    return (f" NOTE: {width:.1f} mm is narrower than the {NARROWEST:.1f} mm scissors and a hole need: this {what} "
+            f"cannot be cut as the model has it (a lighter design than card allows)" if width < NARROWEST else "")
+
+
 def side_card(cfg) -> Piece:
     d, frames = cfg.design, cfg.scene.frames
     sc = build.side_card(d)
     n, L, D, half = int(sc["layers"]), sc["length"] * MM, sc["depth"] * MM, sc["half_length"] * MM
+    off_card = (f" NOTE: the cross lies {abs(d.h) * MM - D / 2:.1f} mm off the card (|h| > half its depth): glue a "
+                f"scrap of card there to hold the counterbalance; the model leaves that scrap out."
+                if abs(d.h) * MM > D / 2 else "")
     seat, cb, h = half - d.Lb * MM, half + d.La * MM, d.h * MM
     shapes = [_rect(0, -D / 2, L, D), _circle(half, 0, HOLE_R),
               _line(seat, -D / 2, seat, D / 2, "mark"), *_cross(cb, -h)]
@@ -102,7 +114,7 @@ def side_card(cfg) -> Piece:
          f"{_layers_text(n)}; {L:.1f} x {D:.1f} mm.",
          f"{HOLE_TEXT} (the frame's axis). Black line: the handrail's seat, Lb = {d.Lb * MM:.1f} mm from the hole.",
          f"Black cross: the counterbalance's centre, La = {d.La * MM:.1f} mm along and h = {h:+.1f} mm across "
-         f"(above the line when the seat is on the left)."),
+         f"(above the line when the seat is on the left).{off_card}{_too_narrow('side card', D)}"),
         tuple(shapes))
 
 
@@ -159,7 +171,8 @@ def arm(cfg) -> Piece:
     end, tip = build.END * MM, build.END * MM + d.arm_length * MM
     return Piece(
         "arm", "part-arm", 1, n, (length * w - math.pi * HOLE_R**2) / MM**2, (), "design.arm_mass", 1, ("design.m2",),
-        (f"ARM: 1, {_layers_text(n)}; {length:.1f} x {w:.1f} mm. {HOLE_TEXT} (the robot's axle, through the torso).",
+        (f"ARM: 1, {_layers_text(n)}; {length:.1f} x {w:.1f} mm. {HOLE_TEXT} (the robot's axle, through the "
+         f"torso).{_too_narrow('arm', w)}",
          f"Hole to the dashed fold: {d.arm_length * MM:.1f} mm; fold the {build.HOOK_LIP * MM:.0f} mm lip 90 deg into "
          f"the hook that hooks the handrail's L ({d.arm_mass * 1e3:.2f} g)."),
         (_rect(0, 0, length, w), _circle(end, w / 2, HOLE_R), _line(tip, 0, tip, w)))
@@ -176,7 +189,7 @@ def torso(cfg) -> Piece:
     return Piece(
         "torso", "part-torso", 1, n, (length * w - math.pi * HOLE_R**2) / MM**2, ((coins_text, d.coin_mass),),
         "design.m2", 1, (),
-        (f"TORSO: 1, {_layers_text(n)}; {length:.1f} x {w:.1f} mm. {HOLE_TEXT} (the axle).",
+        (f"TORSO: 1, {_layers_text(n)}; {length:.1f} x {w:.1f} mm. {HOLE_TEXT} (the axle).{_too_narrow('torso', w)}",
          f"Hole to the bottom edge: {d.torso_length * MM:.1f} mm (Ld = {d.Ld * MM:.0f} mm from the hook with the arm "
          f"at {d.alpha_max_deg:.0f} deg). Glue the {coins_text} in the black circle, flush with the bottom."),
         (_rect(0, 0, length, w), _circle(end, w / 2, HOLE_R), _circle(end + coin_at, w / 2, r, "mark")))
@@ -319,6 +332,13 @@ def uprights(cfg) -> list[Piece]:
     s = cfg.scene
     w, foot = UPRIGHT_WIDTH, 10.0
     out = []
+    low = (s.floor_drop + min(0.0, (s.frames - 1) * s.rise)) * MM
+    if low < foot:  # a descending row that ends at or below the base: there is no upright to cut
+        from ..config import ConfigError
+
+        raise ConfigError(f"scene.rise = {s.rise!r}: over {s.frames} frames the last axis would stand {low:.1f} mm "
+                          f"above the base (scene.floor_drop = {s.floor_drop!r}); the stand needs at least "
+                          f"{foot:.0f} mm, allowed rise >= {(foot / MM - s.floor_drop) / (s.frames - 1):.4g} m")
     for end, frame, height in (("first", 0, s.floor_drop * MM), ("last", s.frames - 1,
                                                                    (s.floor_drop + (s.frames - 1) * s.rise) * MM)):
         length = height + foot

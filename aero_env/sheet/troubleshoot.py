@@ -153,8 +153,12 @@ def frame_balance(cfg: Config) -> str:
     coins on the handrail's seat tip it seat-down (its counterbalance's moment against the seat's lever)."""
     from ..parts.build import YEN_COIN
 
+    from ..units import GRAVITY
+
     d = cfg.design
-    n = (d.m3 * d.La - d.handrail_mass * d.Lb) / (YEN_COIN * d.Lb)  # coins at the seat that balance it level
-    lo = math.floor(n)
+    # held level, the moments about the skewer: the counterbalance's (at La) against the handrail's card and n coins
+    # at the seat (at Lb), and the frame's own dT (positive turns it seat-down, as the robot does)
+    n = (d.m3 * d.La - d.handrail_mass * d.Lb - d.dT / GRAVITY) / (YEN_COIN * d.Lb)
+    lo = math.ceil(n) - 1  # the most coins that still leave it counterbalance-down
     return (f"hold the frame level on its skewer, counterbalance and handrail on: with {lo} one-yen coins on the "
             f"handrail's seat it still turns counterbalance-down, with {lo + 1} seat-down (it balances at {n:.1f})")
