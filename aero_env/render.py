@@ -148,8 +148,9 @@ class Canvas:
                 d.line([w(a), w(b)], fill=(40, 40, 40), width=2)
             cx, cy = w((La, h))
             d.ellipse([cx - 5, cy - 5, cx + 5, cy + 5], fill=(200, 160, 30))  # counterbalance
-            sx, sy = px(_add((ax, ay), _rot((0.4 * La, 0.0), g["stop_angle"] + math.radians(8))))
-            d.ellipse([sx - 2, sy - 2, sx + 2, sy + 2], fill=(90, 90, 90))  # stopper skewer
+            for offset in g["stoppers"]:  # the rest and end stoppers, where the kit's crossbeam holds them
+                sx, sy = px(_add((ax, ay), offset))
+                d.ellipse([sx - 2, sy - 2, sx + 2, sy + 2], fill=(90, 90, 90))
             ox, oy = px((ax, ay))
             d.ellipse([ox - 3, oy - 3, ox + 3, oy + 3], fill=(0, 0, 0))  # axis skewer
         if path and len(path) > 1:

@@ -30,6 +30,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 
 from .. import units
 from ..config import Config
+from ..parts.kit import stopper_offsets
 from . import body_state, check_kernel
 from .drag import AirDrag
 from .engine_params import EngineParams, to_engine
@@ -286,6 +287,8 @@ class World:
             La=p.La * s, Lb=p.Lb * s, h=p.h * s, rest_angle=p.rest_angle, stop_angle=p.stop_angle,
             arm_length=p.arm_length * s, torso_length=p.torso_length * s, coin_offset=p.coin_offset * s,
             floor=((self.floor_a.x * s, self.floor_a.y * s), (self.floor_b.x * s, self.floor_b.y * s)),
+            # the two stopper skewers, offsets from each axis: where the kit's crossbeam puts them (aero_env/parts)
+            stoppers=stopper_offsets(self.cfg.design),
         )
 
     def pose(self) -> tuple:
