@@ -43,21 +43,26 @@ class Draw:
     tolerance_u: tuple
 
 
+def _multiple(n: float, step: float) -> float:
+    """``n·step`` as the maker writes it: 72 steps of 0.1 g is 0.0072 kg, not 72·1e-4 = 0.007200000000000001 (the
+    step's own rounding error, carried into a stored design and onto the sheet). Twelve significant digits keep
+    every multiple apart and drop that error."""
+    return float(f"{n * step:.12g}")
+
+
 def _snap(v: float, step: float, low: float, high: float) -> float:
     """``v`` to the nearest multiple of ``step``, kept inside [low, high] (the nearest multiple there)."""
-    v = round(v / step) * step
+    v = _multiple(round(v / step), step)
     if v < low:
-        v = max(math.ceil(low / step - 1e-9) * step, low)  # a bound on the grid stays the bound, to the last bit
+        v = max(_multiple(math.ceil(low / step - 1e-9), step), low)  # a bound on the grid stays the bound, to the bit
     if v > high:
-        v = min(math.floor(high / step + 1e-9) * step, high)
+        v = min(_multiple(math.floor(high / step + 1e-9), step), high)
     return v
 
 
 def _snap_columns(v: np.ndarray, step: float, low: float, high: float) -> np.ndarray:
-    """:func:`_snap` of every entry, by the same double operations (numpy rounds half to even, as round does)."""
-    v = np.round(v / step) * step
-    v = np.where(v < low, max(math.ceil(low / step - 1e-9) * step, low), v)
-    return np.where(v > high, min(math.floor(high / step + 1e-9) * step, high), v)
+    """:func:`_snap` of every entry, by the same operations (numpy rounds half to even, as round does)."""
+    return np.array([_snap(x, step, low, high) for x in v.tolist()], dtype=np.float64)
 
 
 class DesignSpace:
@@ -75,7 +80,8 @@ class DesignSpace:
             raise ConfigError("context: empty; the observation needs at least one field (e.g. scene.rise)")
         for section, entries in (("tunable", self.tunables), ("context", self.context)):
             for i, t in enumerate(entries):
-                if t.linked and cfg.value(t.name) <= 0:  # checked here, not at load: simulate ignores these lists
+                # checked here, not at load: simulate ignores these lists (a choice sets its linked keys, no scale)
+                if t.linked and not getattr(t, "choices", ()) and cfg.value(t.name) <= 0:
                     raise ConfigError(f"{section}[{i}].linked: the links scale by {t.name} / its config value, which "
                                       f"is {cfg.value(t.name)!r}; allowed only when that value is > 0")
         # each tunable's (low, high) in its field's unit, a relative range resolved on this config's values
@@ -154,7 +160,8 @@ class DesignSpace:
                     raise ConfigError(f"{t.name} = {v!r}: not one of tunable[{i}]'s choices {leaders} (a maker's "
                                       f"measured values)")
                 row = t.choices[leaders.index(v)]
-                for key, want in zip(t.linked, row[1:]):
+                # a choice named by its first value is the whole pair; the config's own design must be one as listed
+                for key, want in zip(t.linked if t.name not in values else (), row[1:]):
                     have = float(self.cfg.value(key))
                     if have != want:  # the config's other value of the pair is not the choice's
                         raise ConfigError(f"{key} = {have!r}: tunable[{i}]'s choice with {t.name} = {v!r} sets it to "

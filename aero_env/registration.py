@@ -39,7 +39,7 @@ ENVIRONMENTS: dict[str, dict] = {
                     {"name": "scene.pitch", "low": 0.070, "high": 0.086},
                     {"name": "design.m2", "low": 0.0065, "high": 0.010},
                     {"name": "design.mu_s", "low": 0.283, "high": 0.542, "linked": ["design.mu_k"]}],
-        "tunable": [{"name": "design.m3", "low": 0.5, "high": 1.6, "relative_to": "design.m2"},
+        "tunable": [{"name": "design.m3", "low": 0.5, "high": 1.6, "relative_to": "design.m2", "step": 1e-4},
                     {"name": "design.h", "low": -0.2, "high": 0.4, "relative_to": "design.La"},
                     {"name": "design.La", "low": 0.75, "high": 1.35, "relative_to": "design.La"},
                     {"name": "design.spring_k", "low": 0.22, "high": 4.5, "scale": "log",

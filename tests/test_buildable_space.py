@@ -128,3 +128,37 @@ def test_a_space_that_would_name_an_invalid_or_other_design_is_refused_when_pose
     with pytest.raises(ConfigError) as e:
         DesignSpace(load_config(SMALL, override))
     assert needle in str(e.value) and "\n" not in str(e.value)
+
+
+STORED = sorted(p for p in (ROOT / "configs").rglob("*.yaml") if p.name != "paper_targets.yaml")
+
+
+def _searches_a_makers_choices(cfg, where):
+    """Every mass a search may choose is set to the 0.1 g of a kitchen scale, every card pair is one of Table 3's,
+    and the config's own design is a point of that space (a stored tune's answer included)."""
+    from aero_env.config import real_field
+
+    for t in cfg.tunable:
+        if real_field(t.name, where).metadata["unit"] == "kg":
+            assert t.step is not None and round(t.step * 1e4, 9) == 1.0, (where, t)
+        if t.name in ("design.mu_s", "design.mu_k"):
+            assert t.choices and {tuple(c) for c in t.choices} <= TABLE_3, (where, t)
+    DesignSpace(cfg).action_for(dtype=np.float64)  # refused if off the grid or not a choice
+
+
+@pytest.mark.parametrize("path", STORED, ids=lambda p: str(p.relative_to(ROOT / "configs")))
+def test_every_stored_config_searches_only_a_makers_choices(path):
+    _searches_a_makers_choices(load_config(path), str(path))
+
+
+def test_every_registered_environment_poses_a_makers_choices():
+    """What a policy chooses in each registered id (and with no config at all: the defaults) is buildable."""
+    import gymnasium as gym
+
+    import aero_env  # noqa: F401  (registers the ids)
+    from aero_env.registration import ENVIRONMENTS
+
+    for env_id in ENVIRONMENTS:
+        env = gym.make(env_id, **{"sim.fidelity": "reduced"})
+        _searches_a_makers_choices(env.unwrapped.config, env_id)
+        env.close()

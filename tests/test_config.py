@@ -203,8 +203,9 @@ def test_relative_ranges_follow_the_scene():
     assert ends["design.La"] == [0.75 * 0.029, 1.35 * 0.029]
     assert ends["design.h"] == [-0.2 * 0.029, 0.4 * 0.029]  # the offset scales with the frame's arm
     assert ends["design.m3"] == [0.5 * 0.009, 1.6 * 0.009]  # the counterbalance with the robot it balances
-    # the friction pair's range is the card's, whatever the toy's size
-    assert small.ranges[4] == proto.ranges[4] == (0.2, 1.5)
+    # the card pair is the card's, whatever the toy's size: Table 3's three measured pairs
+    assert small.ranges[4] == proto.ranges[4] == (0.283, 0.542)
+    assert small.tunables[4].choices == ((0.283, 0.149), (0.507, 0.337), (0.542, 0.409))
     # La is a fixed fraction of its range on either scene: the action of the config's own La is the same
     assert small.action_for()[2] == proto.action_for()[2]
 

@@ -337,7 +337,7 @@ def test_the_env_scores_designs_with_the_reduced_model_and_refuses_to_draw_it(ca
     reduced.reset(seed=0)
     _, reward, *_, info = reduced.step(reduced.unwrapped.action_for())
     assert info["fidelity"] == "reduced" and info["outcome"] == "completed" and reward == 2.0
-    weak = reduced.unwrapped.action_for({"design.spring_k": 2e-4, "design.mu_s": 0.3})
+    weak = reduced.unwrapped.action_for({"design.spring_k": 2e-4, "design.mu_s": 0.283})
     reduced.reset(seed=0)
     _, reward, *_, info = reduced.step(weak)
     assert reward == 0.0 and info["outcome"] == "missed_catch"  # as in the pymunk world (test_env)

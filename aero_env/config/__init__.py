@@ -47,7 +47,8 @@ The modules, each importing only those above it:
 * ``loading``: :class:`Config`, ``from_dict``, ``load_config``, overrides and the schema table.
 """
 
-from .design_problem import DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, ContextRange, Tolerance, Tunable
+from .design_problem import (CARD_PAIRS, DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, TABLE3_CARD_PAIRS,
+                             ContextRange, Tolerance, Tunable)
 from .loading import Config, from_dict, load_config, parse_override, read_yaml, schema_rows
 from .plausible import UnitSlipWarning, unit_slips, warn_unit_slips
 from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, Effects, EnvOptions, Scene, Sim, check_design,
@@ -55,8 +56,9 @@ from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, Eff
 from .validation import ConfigError, MissingExtra, check_value, check_values, did_you_mean
 
 __all__ = [
-    "Config", "ConfigError", "ContextRange", "DEFAULT_CONTEXT", "DEFAULT_FIDELITY", "DEFAULT_TUNABLES", "Design",
-    "Effects", "EnvOptions", "FIDELITY_PRESETS", "LIST_SECTIONS", "MissingExtra", "SECTIONS", "Scene", "Sim", "Tolerance", "Tunable",
+    "CARD_PAIRS", "Config", "ConfigError", "ContextRange", "DEFAULT_CONTEXT", "DEFAULT_FIDELITY", "DEFAULT_TUNABLES", "Design",
+    "Effects", "EnvOptions", "FIDELITY_PRESETS", "LIST_SECTIONS", "MissingExtra", "SECTIONS", "Scene", "Sim", "TABLE3_CARD_PAIRS", "Tolerance",
+    "Tunable",
     "check_design", "check_value", "check_values", "did_you_mean", "from_dict", "load_config", "parse_override",
     "pymunk_fidelities", "read_yaml", "real_field", "real_keys",
     "schema_rows", "spec", "UnitSlipWarning", "unit_slips", "warn_unit_slips",

@@ -62,20 +62,33 @@ class Tolerance:
     absolute: float = _item("± in the field's unit, >= 0", "field's", default=0.0)
 
 
+# Shinohara & Nishibori 2026, Table 3: JIS K7125 friction (mu_s, mu_k) of the 0.4 mm, 310 g/m² card (a white
+# coated face and a gray uncoated back). The arm is card too: which faces touch is the maker's choice. Least
+# friction first, so that neighbouring bins of the default action are neighbouring frictions. The sheet names
+# a design's pair from this table.
+CARD_PAIRS = (
+    ("gray arm on gray handrail", 0.283, 0.149),
+    ("white arm on white handrail", 0.507, 0.337),
+    ("white arm on gray handrail (the paper's prototype)", 0.542, 0.409),
+)
+TABLE3_CARD_PAIRS = tuple((mu_s, mu_k) for _name, mu_s, mu_k in CARD_PAIRS)
+
 # The default design problem: the frame's counterbalance (m3, h, La), the leaf spring, and the
-# card pair of the hook (mu_s, with mu_k kept at the pair's ratio). The robot's mass, the
-# row's rise and pitch are what the designer is given. The ranges follow the scene: the
-# counterbalance's mass scales with the robot it balances, its place with the frame's arm La,
-# and the spring with its own value, so a smaller toy (``--set design.La=0.029``) is searched
-# around its own size. On the prototype they span 3.9-12.3 g, -9.7-19.3 mm, 36-65 mm and
-# 0.19-3.9 N·mm/rad, and the prototype lies inside every range. The card pair's friction is a
-# property of the card, not of the toy's size, so its range is absolute.
+# card pair of the hook. Each is a maker's choice: m3 in the 0.1 g a kitchen scale reads (whole
+# coins plus clay), the card pair one of Table 3's measured pairs (a config may list a pair its
+# maker measured), the lengths printed 1:1 on the template, the spring a strip the kit plans no
+# narrower than scissors cut. The robot's mass, the row's rise and pitch are what the designer is
+# given. The ranges follow the scene: the counterbalance's mass scales with the robot it
+# balances, its place with the frame's arm La, and the spring with its own value, so a smaller
+# toy (``--set design.La=0.029``) is searched around its own size. On the prototype they span
+# 3.9-12.3 g, -9.7-19.3 mm, 36-65 mm and 0.19-3.9 N·mm/rad, and the prototype lies inside every
+# range. The card pair is a property of the card, not of the toy's size, so it is absolute.
 DEFAULT_TUNABLES = (
-    Tunable("design.m3", 0.5, 1.6, relative_to="design.m2"),
+    Tunable("design.m3", 0.5, 1.6, relative_to="design.m2", step=1e-4),
     Tunable("design.h", -0.2, 0.4, relative_to="design.La"),
     Tunable("design.La", 0.75, 1.35, relative_to="design.La"),
     Tunable("design.spring_k", 0.22, 4.5, "log", relative_to="design.spring_k"),
-    Tunable("design.mu_s", 0.2, 1.5, "log", linked=("design.mu_k",)),
+    Tunable("design.mu_s", 0.283, 0.542, linked=("design.mu_k",), choices=TABLE3_CARD_PAIRS),
 )
 DEFAULT_CONTEXT = (ContextRange("scene.rise"), ContextRange("scene.pitch"), ContextRange("design.m2"))
 

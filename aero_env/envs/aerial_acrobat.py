@@ -104,25 +104,27 @@ class AerialAcrobatEnv(gym.Env):
     the scene (a toy with La = 29 mm is searched over 22-39 mm). The defaults
     (``aero_env.config.DEFAULT_TUNABLES``), with the prototype's value inside every range:
 
-    | Num | Field            | Low   | High  | relative_to      | Scale  | On the prototype | Unit    |
-    |-----|------------------|-------|-------|------------------|--------|------------------|---------|
-    | 0   | design.m3        | 0.5   | 1.6   | design.m2        | linear | 3.9-12.3 g       | kg      |
-    | 1   | design.h         | -0.2  | 0.4   | design.La        | linear | -9.7-19.3 mm     | m       |
-    | 2   | design.La        | 0.75  | 1.35  | design.La        | linear | 36-65 mm         | m       |
-    | 3   | design.spring_k  | 0.22  | 4.5   | design.spring_k  | log    | 0.19-3.9 N·mm/rad | N·m/rad |
-    | 4   | design.mu_s      | 0.2   | 1.5   | (absolute)       | log    | 0.2-1.5          | -       |
+    | Num | Field            | Low   | High  | relative_to      | Maps as              | On the prototype    | Unit    |
+    |-----|------------------|-------|-------|------------------|----------------------|---------------------|---------|
+    | 0   | design.m3        | 0.5   | 1.6   | design.m2        | linear, step 0.1 g   | 3.9-12.3 g          | kg      |
+    | 1   | design.h         | -0.2  | 0.4   | design.La        | linear               | -9.7-19.3 mm        | m       |
+    | 2   | design.La        | 0.75  | 1.35  | design.La        | linear               | 36-65 mm            | m       |
+    | 3   | design.spring_k  | 0.22  | 4.5   | design.spring_k  | log                  | 0.19-3.9 N·mm/rad   | N·m/rad |
+    | 4   | design.mu_s      |       |       | (absolute)       | 3 choices, thirds    | 0.283, 0.507, 0.542 | -       |
 
-    ``design.mu_s`` is linked to ``design.mu_k``: both scale by one factor, so the card pair
-    keeps its kinetic/static ratio.
-
-    **A maker's choices.** The action stays a ``Box`` (what every Gymnasium algorithm takes), and
-    a tunable may map it onto the nearest design a maker can build: ``step`` snaps the value to
-    its nearest multiple in the range (``step: 0.1 g`` on ``design.m3``: whole one-yen coins and
-    clay weighed on a kitchen scale), and ``choices`` cuts ``[-1, 1]`` into equal bins, one per
-    listed choice, each setting the field and its ``linked`` keys (``design.mu_s`` and
-    ``design.mu_k`` from Table 3's three measured card pairs). ``configs/small_frames.yaml``, the
-    maker's example, searches that way; a policy or a tuner then never names a design that
-    cannot be cut, weighed and glued. ``env.action_for()`` gives the action of the config's own
+    **A maker's choices.** Every design an action names is one a maker can build, and the action
+    stays a ``Box`` (what every Gymnasium algorithm takes) mapped onto the nearest buildable
+    choice. ``step`` snaps a value to its nearest multiple in the range (``step: 0.1 g`` on
+    ``design.m3``: whole one-yen coins and clay weighed on a kitchen scale, written as the maker
+    writes it, 0.0072 kg). ``choices`` cuts ``[-1, 1]`` into equal bins, one per listed choice,
+    each setting the field and its ``linked`` keys: action 4 below -1/3 is Table 3's gray/gray
+    card (mu_s 0.283, mu_k 0.149), up to +1/3 white/white (0.507, 0.337), above it white/gray
+    (0.542, 0.409, the prototype's), least friction first so that neighbouring bins are
+    neighbouring frictions. A config may list a pair its maker measured. The lengths print 1:1
+    on the template and the spring is a strip the kit plans no narrower than scissors cut, so
+    those stay continuous. Why a ``Box`` and not ``MultiDiscrete``: a Gaussian policy (PPO, SAC)
+    and CMA-ES move smoothly through it, and one space holds the continuous and the discrete
+    dimensions together. ``env.action_for()`` gives the action of the config's own
     design (the prototype's with ``configs/paper.yaml``). An action outside the box, of the
     wrong shape, or with NaN raises ``ConfigError`` naming the dimension, its field and the
     allowed range; with ``env.action_out_of_box: clip`` an out-of-box (finite) action is clipped.
@@ -261,6 +263,11 @@ class AerialAcrobatEnv(gym.Env):
       warns with its likely unit.
     * v0: ``max_episode_steps=1`` and ``reward_threshold`` in the spec (truncated True under
       ``gym.make``, above); the vector env's ``autoreset_mode``.
+    * v0: the world swings the parts as the kit builds them (``aero_env.parts``: each part's card,
+      coins and clay give its mass and inertia): rewards changed.
+    * v0: the default design problem, and every registered id's, is a maker's choices: ``design.m3``
+      in 0.1 g steps, the card pair one of Table 3's (was a continuous friction over 0.2-1.5): the
+      action's meaning on dimensions 0 and 4 changed.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": ANIMATION_FPS}

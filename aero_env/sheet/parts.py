@@ -11,20 +11,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..config import Config
+from ..config import CARD_PAIRS, Config
 from ..parts.build import counterbalance_load, side_card
 from ..parts.card import PAPER_CARD, Card
 from ..parts.kit import pieces
 from ..parts.spring_strip import GLUE_TAB, bench_loads, linear_equivalent, plan_strip
 
 
-# Shinohara & Nishibori 2026, Table 3: JIS K7125 friction of the 0.4 mm, 310 g/m² card
-# (a white coated face and a gray uncoated back). The arm is card too: which faces touch is a choice.
-CARD_PAIRS = (
-    ("white arm on white handrail", 0.507, 0.337),
-    ("white arm on gray handrail (the paper's prototype)", 0.542, 0.409),
-    ("gray arm on gray handrail", 0.283, 0.149),
-)
 CARD_PAIR_SPREAD = 0.10  # the robustness study's friction tolerance (±10 %): a pair this close is "that pair"
 
 
