@@ -37,6 +37,15 @@ from aero_env.physics import simulate
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def cache_key(cfgs) -> str:
+    """What the stored pymunk runs are valid for: every design's whole config as simulated, and every source of
+    the package (the world, the parts it builds, the design space that drew the designs). A key of paths and
+    seeds alone once served runs of other designs after a config's design space changed."""
+    src = b"".join(p.read_bytes() for p in sorted((ROOT / "aero_env").rglob("*.py")))
+    designs = "\n".join(c.to_yaml() for c in cfgs).encode()
+    return f"{len(cfgs)} designs|{hashlib.sha1(designs).hexdigest()[:16]}|{hashlib.sha1(src).hexdigest()[:16]}"
+
+
 def pymunk_runs(cfgs, cache: Path | None, key: str) -> list[dict]:
     store = json.loads(cache.read_text()) if cache and cache.exists() else {}
     if key not in store:
@@ -71,11 +80,7 @@ def main() -> None:
     else:
         cfgs = list(draw_designs(cfg, args.designs, args.seed, near=load_config(args.near),
                                  spread=args.spread).configs)
-    # the cache is only valid for the physics that made it: key it by the physics sources too
-    src = b"".join(p.read_bytes() for p in sorted((ROOT / "aero_env" / "physics").glob("*.py")))
-    near = f"|near {args.near.resolve()} {args.spread}" if args.near else ""
-    key = f"{Path(args.config).resolve()}|{args.seed}|{args.designs}{near}|{hashlib.sha1(src).hexdigest()[:12]}"
-    pm = pymunk_runs(cfgs, args.cache, key)
+    pm = pymunk_runs(cfgs, args.cache, cache_key(cfgs))
     t0 = time.perf_counter()
     rd = simulate_batch(cfgs)
     wall = time.perf_counter() - t0

@@ -50,6 +50,14 @@ def test_reduced_agreement_caches_the_pymunk_runs(tmp_path):
     assert again["pymunk_wall_s"] == first["pymunk_wall_s"] and again["same_traversals"] == first["same_traversals"]
     near = _bench("reduced_agreement.py", "--designs", "4", "--seed", "3", "--cache", str(cache), "--near", PAPER)
     assert near["near"] == PAPER and near["spread"] == 0.1 and len(json.loads(cache.read_text())) == 2
+    # the same path, seed and count with another design in the file are other runs, not the stored ones
+    edited = tmp_path / "paper.yaml"
+    edited.write_text(Path(PAPER).read_text())
+    _bench("reduced_agreement.py", "--designs", "4", "--seed", "3", "--cache", str(cache), "--near", str(edited))
+    assert len(json.loads(cache.read_text())) == 2  # the same designs as PAPER's, whatever the file's name
+    edited.write_text(Path(PAPER).read_text().replace("  La: 0.0483\n", "  La: 0.0490\n"))
+    _bench("reduced_agreement.py", "--designs", "4", "--seed", "3", "--cache", str(cache), "--near", str(edited))
+    assert len(json.loads(cache.read_text())) == 3
 
 
 def test_shaping_adversary():
