@@ -131,6 +131,13 @@ def test_a_bad_context_link_is_one_line_naming_it(context, match):
         load_config(PAPER, {"context": context, "tunable": tunable})
 
 
+def test_a_context_that_names_a_field_a_tunable_links_is_refused_at_the_context():
+    # the default tunables link design.mu_k to the card pair; a context naming mu_k is the entry in the wrong, and the
+    # line starts with it (found by tests/test_properties.py's random sections)
+    with pytest.raises(ConfigError, match=r"^context\[0\].name = 'design.mu_k': tunable\[4\] links it to design.mu_s"):
+        load_config(PAPER, {"context": [{"name": "design.mu_k"}]})
+
+
 def test_a_context_link_and_a_tunable_link_cannot_share_a_follower():
     with pytest.raises(ConfigError, match=r"context\[0\].linked: 'design.mu_k' already follows design.m3"):
         load_config(PAPER, {"tunable": [{"name": "design.m3", "low": 0.004, "high": 0.01, "linked": ["design.mu_k"]}],

@@ -185,11 +185,20 @@ def _check_design_problem(cfg: Config) -> None:
             raise ConfigError(f"context[{i}].name = {c.name!r}: also tunable; the designer either chooses a value "
                               f"or is given it, not both")
     given = {c.name for c in cfg.context}
+    # where each chosen or given field is named, in reading order (tunable before context): a conflict is reported
+    # at the later of the two entries, the one that clashes with what came before (a context naming a field that a
+    # tunable already links is the context's error, and the other way round)
+    named = {t.name: (0, i, "tunable") for i, t in enumerate(cfg.tunable)}
+    named.update({c.name: (1, i, "context") for i, c in enumerate(cfg.context)})
     leader: dict[str, str] = {}
-    for section, entries in (("tunable", cfg.tunable), ("context", cfg.context)):
+    for rank, (section, entries) in enumerate((("tunable", cfg.tunable), ("context", cfg.context))):
         for i, t in enumerate(entries):
             for key in t.linked:
                 if key in tuned or key in given:
+                    other_rank, j, other = named[key]
+                    if (other_rank, j) > (rank, i):
+                        raise ConfigError(f"{other}[{j}].name = {key!r}: {section}[{i}] links it to {t.name}; a "
+                                          f"field is chosen, given or linked, only one of them")
                     raise ConfigError(f"{section}[{i}].linked: {key!r} is itself tunable or context; it cannot also "
                                       f"follow {t.name}")
                 if key in leader:
