@@ -20,7 +20,7 @@ from .jit import kernel
 from ... import units
 from .catch import catch
 from .constants import NOTCH_EXIT_MARGIN
-from .hooked_dynamics import axle_friction, hook_from_com, spring_energy, spring_torque
+from .hooked_dynamics import axle_friction, distance, hook_from_com, spring_energy, spring_torque
 from .layout import (R_AHEAD, R_BEHIND, R_GRAZE, R_LOW, R_NEVER_DOWN, R_STIFF, R_WEAK, P, X)
 from .transitions import finish, parked_energy, track_energy
 
@@ -167,7 +167,7 @@ def seat_reached(p, dx0, dy0, dx1, dy1, dt):
     if face == -1:
         return NO_CATCH, 0.0, 0.0
     hx, hy = dx0 + first * (dx1 - dx0), dy0 + first * (dy1 - dy0)
-    gap = math.hypot(hx, hy)
+    gap = distance(hx, hy)
     if face == -2:
         return CAUGHT, first, gap
     ux, uy = (p[P.rbux], p[P.rbuy]) if face == 0 else (p[P.rfux], p[P.rfuy])
@@ -210,7 +210,7 @@ def flight_stage(p, x, out, sw, t, dt, detail, parked):
     ox, oy = (fi + 1) * p[P.pitch], (fi + 1) * p[P.rise]
     seat_x, seat_y = ox + p[P.seatx], oy + p[P.seaty]
     since = t1 - x[X.t_rel]
-    x[X.closest] = min(x[X.closest], math.hypot(hx - seat_x, hy - seat_y))
+    x[X.closest] = min(x[X.closest], distance(hx - seat_x, hy - seat_y))
     if detail:
         vy = x[X.vy0] - G * tau
         kin = (0.5 * p[P.m] * (x[X.vx0] ** 2 + vy * vy) + 0.5 * (p[P.Ka] * wa * wa + p[P.Kt] * wt * wt)

@@ -16,7 +16,7 @@ from .jit import kernel
 
 from ...physics.swing_rules import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG
 from .constants import STALL_WINDOW
-from .hooked_dynamics import (friction_cone, hook_on_frame, hooked_energy, normal_sum, slide_eval, slide_step,
+from .hooked_dynamics import (distance, friction_cone, hook_on_frame, hooked_energy, normal_sum, slide_eval, slide_step,
                               stick_eval, stick_step, theta2)
 from .impacts import impact
 from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_HELD_LONG, R_STOP_HOLD, R_TIMEOUT,
@@ -151,7 +151,7 @@ def swing_checks(p, x, out, sw, t1, detail, parked):
         hy = fi * p[P.rise] + s1 * px + c1 * py
         nx = (fi + 1) * p[P.pitch] + p[P.seatx]
         ny = (fi + 1) * p[P.rise] + p[P.seaty]
-        x[X.closest] = min(x[X.closest], math.hypot(hx - nx, hy - ny))
+        x[X.closest] = min(x[X.closest], distance(hx - nx, hy - ny))
     # the runner's checks
     peak = x[X.peak] = max(x[X.peak], th1)
     at_stop = th1 >= p[P.stop] - STOP_TOLERANCE
