@@ -10,6 +10,7 @@ or training step; Ctrl-C ends with one line saying what was kept and how to go o
 from __future__ import annotations
 
 import json
+import shlex
 import sys
 from pathlib import Path
 
@@ -160,6 +161,13 @@ def cmd_tune(args) -> int:
     return 0
 
 
+# What training on the fast rung risks (issue 35 §3), measured in docs/agents.md: the reduced model parts from the
+# world on some designs, and a policy trained on it can learn to choose exactly those
+REDUCED_RISK = ("aero-env train: sim.fidelity = reduced trains on the fast model, which parts from the world on some "
+                "designs, and a policy can learn to pick them; score it where it will be used: aero-env evaluate "
+                "{out} --set sim.fidelity=mbd (docs/agents.md#the-fast-rung-and-a-policy)")
+
+
 def cmd_train(args) -> int:
     from aero_env.config import parse_override
 
@@ -170,6 +178,8 @@ def cmd_train(args) -> int:
                              eval_every=args.eval_every, vector=args.vector, hyperparameters=hp, progress=not args.no_progress).check()
     check_run_dir(args.out, args.overwrite, args.resume)
     cfg = load_scene(args)
+    if cfg.sim.model == "reduced":
+        print(REDUCED_RISK.format(out=shlex.quote(str(args.out))), file=sys.stderr)
     try:
         run = train(cfg, settings, args.out, overwrite=args.overwrite, resume=args.resume)
     except KeyboardInterrupt:  # before the first step: train left the folder as it found it

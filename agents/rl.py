@@ -513,7 +513,8 @@ def evaluate(run_dir: str | Path, episodes: int = 20, seed: int = 0, config: Con
     outcomes = [e["outcome"] for e in per_episode]
     rw = np.array(rewards)
     full_row = env.config.scene.frames - 1
-    rep = dict(algo=run["algo"], episodes=episodes, seeds=[seed, seed + episodes - 1], mean_reward=float(rw.mean()),
+    rep = dict(algo=run["algo"], fidelity=env.config.sim.fidelity, trained_at=trained_on.sim.fidelity,
+               episodes=episodes, seeds=[seed, seed + episodes - 1], mean_reward=float(rw.mean()),
                std_reward=float(rw.std()), min_reward=float(rw.min()), max_reward=float(rw.max()),
                full_row=full_row, full_row_fraction=float(np.mean(np.array(traversals) >= full_row)),
                outcomes={o: outcomes.count(o) for o in sorted(set(outcomes))}, rewards=rewards,

@@ -1,296 +1,420 @@
-"""A policy (context -> design) against the best single design, on the maker's contexts.
+"""Context -> design: RL, black-box maps, nearest neighbour and the per-context oracle against the best
+single design, on the maker's contexts, over training seeds, with intervals.
 
-    python benchmarks/rl_vs_tuning.py [--timesteps 40960] [--holdout 200] [--holdout-seed 0] [--seed 0]
-                                      [--methods prototype,single,ppo] [--policy DIR]
-                                      [--tune-trials 400] [--seeds-per-design 32] [--curve-every 4000]
+    python benchmarks/rl_vs_tuning.py [--holdout-seed S] [--holdout 200] [--methods M,...] [--seeds 0-4]
+                                      [--policies policies/contexts] [--policy DIR] [--no-flips]
+                                      [--retrain [--timesteps 40960] [--map-episodes 40960] [--nn-contexts 128]]
                                       [--plot FILE.png] [--json]
 
-The scene is ``aero_env/AerialAcrobatContexts-v0`` (``configs/contexts.yaml``): every reset draws the
-row's rise and pitch, the robot's mass and the card pair (observed) and the build's cutting error (not
-observed), on a 5-frame row (whole row = 4 traversals). Methods:
+The scene is ``aero_env/AerialAcrobatContexts-v0`` (``configs/contexts.yaml``): every reset draws the row's rise
+and pitch, the robot's mass and the card pair (observed) and the build's cutting error (not observed), on a
+5-frame row (whole row = 4 traversals). By default nothing is trained: the policies and maps shipped in
+``--policies`` (``benchmarks/rl_policies.py`` wrote them; each file records its command) are re-scored on the
+hold-out contexts of ``--holdout-seed S`` (episode seeds ``10^6·(S+1)`` onward, never seen in training or
+tuning, nor by the learning curves). ``--retrain`` trains them all again first (the table's last line says how
+long that took, by the shipped runs' records).
 
-* ``prototype``: the paper's design for every context, no search.
-* ``single``: the best single design, stored in ``configs/contexts_single.yaml``: a robust tune over the
-  context draws with a generous budget (CMA-ES, 1,200 designs, each scored on the same 32 episode seeds,
-  so 38,400 episodes; the file's header gives the command). Re-scored here, not re-tuned.
-* ``tuned``: the same tune run here with ``--tune-trials`` x ``--seeds-per-design`` episodes (its wall time
-  is then measured in this run).
-* ``ppo``: a policy trained through the native vector env for ``--timesteps`` episodes (32 designs a step
-  over a pool of one process per core): exactly ``aero-env train configs/contexts.yaml`` with
-  :data:`PPO_ARGS`. The policy trained to the end is scored; the learning curve (hold-out share against
-  training episodes) is only watched, never used to pick a policy. ``--policy DIR`` scores a run that
-  ``aero-env train`` wrote instead of training one here.
+Methods (:data:`METHODS`):
 
-Every method is scored on the same ``--holdout`` contexts: episode seeds ``10^6·(S+1)`` onward for
-``--holdout-seed S``, never seen in tuning or training (which draw from seeds below 10^5). The table gives
-each method's episodes, wall time, hold-out whole-row share and mean traversals; then the policy's
-learning curve (drawn with ``--plot``) and, for each design field, the context field the policy's choice
-follows most (Spearman correlation over the hold-out contexts).
+* ``prototype``: the paper's design for every context. ``single``: the best single design,
+  ``configs/contexts_single.yaml`` (a robust tune, 38,400 episodes; its header gives the command).
+* ``linear-map``, ``mlp-map``: ``design = map(context)``, tuned black-box by CMA-ES at ``reduced`` from the
+  single design (:mod:`agents.context_maps`). ``nearest-neighbour``: the design a per-context search found
+  for the nearest of 128 training contexts.
+* ``ppo``, ``sac``: trained at ``mbd`` through the native vector env, 40,960 episodes. ``ppo-reduced``: PPO
+  trained at ``reduced`` (the fast rung), scored at ``mbd`` like every method.
+* ``oracle``: a search per hold-out context on that very episode (its context and its build), from the
+  single design, until a design makes the whole row (193 episodes at most): the ceiling this benchmark can
+  measure, not a bound (a method may make a row its budget did not find). It runs here.
+
+Each method is scored at ``mbd`` on every seed it was trained with. The table gives the hold-out whole-row
+share as an IQM over (seeds x 10 blocks of hold-out contexts) with a 95 % stratified-bootstrap interval
+(rliable, resampling seeds and blocks), the plain mean, mean traversals, the episodes and wall time of one
+seed's training, and the share of the gap from the single design to the oracle that it closes. The
+knife-edge columns give the share of hold-out outcomes (whole row or not) that flip when every action moves
+by noise of 1e-6, and when every context is built again by hand (a fresh draw of the cutting error).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import os
+import re
 import sys
-import tempfile
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
 
-SCENE = "aero_env/AerialAcrobatContexts-v0"
-CONFIG = "configs/contexts.yaml"
-SINGLE = "configs/contexts_single.yaml"  # the best single design (its header: the tune that wrote it)
-METHODS = ("prototype", "single", "tuned", "ppo")
-HOLDOUT_BASE = 1_000_000
-# aero-env train configs/contexts.yaml --timesteps T --n-envs 32 --vector --eval-every 0 --hp n_steps=32
-#   --hp batch_size=256: 32 designs a step, a PPO update every 1024 episodes
-N_ENVS = 32
-PPO_HP = dict(n_steps=32, batch_size=256)
-PPO_ARGS = f"--n-envs {N_ENVS} --vector --eval-every 0 " + " ".join(f"--hp {k}={v}" for k, v in PPO_HP.items())
+from rl_holdout import CONFIG, SCENE, SINGLE, holdout_seeds, single_action, watch_seeds
+from rl_policies import MAP_METHODS, METHODS as TRAINED, RL_METHODS, check_training_ranges, checked_args
+
+METHODS = ("prototype", "single", *MAP_METHODS, "nearest-neighbour", "ppo", "sac", "ppo-reduced", "oracle")
+POLICIES = "policies/contexts"
+STRATA = 10        # blocks of hold-out contexts: the "tasks" of rliable's stratified bootstrap
+NOISE = 1e-6       # the knife-edge test's action noise
+BOOTSTRAP_REPS = 20_000
 
 
-def holdout_seeds(holdout_seed: int, n: int) -> list[int]:
-    start = HOLDOUT_BASE * (holdout_seed + 1)
-    return list(range(start, start + n))
+def iqm_interval(shares: np.ndarray, seed: int = 0) -> tuple[float, list[float]]:
+    """IQM and 95 % stratified-bootstrap interval (rliable) of ``shares`` (runs x blocks of contexts)."""
+    from rliable import library as rly, metrics
+
+    scores = {"m": np.asarray(shares, dtype=np.float64)}
+    # rliable 1.2 resamples with numpy's global generator whatever random_state says (np.random.choice in
+    # StratifiedBootstrap.update_indices), so the interval is made reproducible by seeding that, then restoring it
+    kept = np.random.get_state()
+    np.random.seed(seed)
+    try:
+        with warnings.catch_warnings():  # arch 7 warns that the random_state= rliable passes will go
+            warnings.filterwarnings("ignore", "random_state is deprecated", FutureWarning)
+            point, ci = rly.get_interval_estimates(scores, lambda x: np.array([metrics.aggregate_iqm(x)]),
+                                                   reps=BOOTSTRAP_REPS, task_bootstrap=True,
+                                                   random_state=np.random.RandomState(seed))
+    finally:
+        np.random.set_state(kept)
+    return float(point["m"][0]), [float(ci["m"][0][0]), float(ci["m"][1][0])]
 
 
-class HoldoutScorer:
-    """Plays a map obs -> action on the hold-out contexts, every design of a batch in one call of the vector
-    env (a pool of one process per core)."""
-
-    def __init__(self, cfg, seeds: list[int]):
-        from aero_env.envs import AerialAcrobatVectorEnv
-
-        self.seeds = seeds
-        self.envs = AerialAcrobatVectorEnv(len(seeds), cfg, workers=os.cpu_count() or 1)
-        self.full_row = cfg.scene.frames - 1
-
-    def play(self, choose) -> dict:
-        obs, info = self.envs.reset(seed=self.seeds)
-        actions = np.clip(np.asarray(choose(obs), dtype=np.float64), -1.0, 1.0)
-        _, _, _, _, info = self.envs.step(actions)
-        done = info["final_info"]  # every episode ends in its one step; the vector env resets it in the same step
-        traversals = np.asarray(done["traversals"])
-        design = {k: np.asarray(v) for k, v in done["design"].items() if not k.startswith("_")}
-        return dict(obs=obs, actions=actions, traversals=traversals.tolist(),
-                    full_row_fraction=float(np.mean(traversals >= self.full_row)),
-                    mean_traversals=float(np.mean(traversals)), design=design)
-
-    def close(self) -> None:
-        self.envs.close()
+def block_shares(whole_rows: np.ndarray, strata: int) -> np.ndarray:
+    """Per run, the whole-row share in each of ``strata`` consecutive blocks of hold-out contexts."""
+    return np.array([[float(np.mean(b)) for b in np.array_split(row, strata)] for row in whole_rows])
 
 
-def stored_single(space) -> tuple[np.ndarray, int]:
-    """The action of the stored best single design and the episodes its tune spent (trials x seeds, from the
-    header ``aero-env tune`` wrote: "trial N of TRIALS", "traversals per seed [...]")."""
-    import re
-
-    from aero_env.config import load_config
-
-    single = load_config(SINGLE)
+def single_record() -> dict:
+    """The episodes and wall time the stored single design's tune spent, from its header."""
     head = Path(SINGLE).read_text()
     trials = int(re.search(r"trial \d+ of (\d+)", head).group(1))
     seeds = len(re.search(r"traversals per seed \[([^\]]*)\]", head).group(1).split(","))
-    action = space.action_for({t.name: single.value(t.name) for t in space.tunables}, dtype=np.float64)
-    return action, trials * seeds
+    minutes = re.search(r"\((\d+) min on one core", head)
+    return dict(episodes=trials * seeds, wall_s=60.0 * int(minutes.group(1)) if minutes else None)
 
 
-def run_single(cfg, trials: int, k: int, seed: int):
-    from agents.tune import tune
-    from agents.tune_settings import TuneSettings
+def load_players(method: str, seeds: list[int], root: Path, space) -> list[dict]:
+    """Each seed's map obs -> actions of ``method`` as shipped in ``root``, with its training record."""
+    out = []
+    for seed in seeds:
+        folder = root / method / f"seed{seed}"
+        if method in RL_METHODS:
+            from agents.rl import load_run
 
-    r = tune(cfg, TuneSettings(sampler="cmaes", trials=trials, seeds_per_design=k, seed=seed, progress=False),
-             config_name="contexts")
-    return np.array(r.best_action), r.trials * k, r
+            if not (folder / "model.zip").is_file():
+                raise FileNotFoundError(f"{folder}: no model.zip; train it with python benchmarks/rl_policies.py "
+                                        f"--methods {method} --seeds {seed}, or run this with --retrain")
+            model, _, run = load_run(folder)
+            out.append(dict(seed=seed, act=(lambda m: lambda obs: m.predict(obs, deterministic=True)[0])(model),
+                            episodes=int(run["timesteps_done"]), wall_s=float(run["wall_time"]),
+                            trained_at=RL_METHODS[method]["overrides"].get("sim.fidelity", "mbd"),
+                            folder=str(folder)))
+            continue
+        path = folder / "policy.json"
+        if not path.is_file():
+            raise FileNotFoundError(f"{path}: missing; fit it with python benchmarks/rl_policies.py --methods "
+                                    f"{method} --seeds {seed}, or run this with --retrain")
+        rec = json.loads(path.read_text())
+        from agents.context_maps import NearestNeighbour, ParamMap
 
-
-def run_ppo(cfg, timesteps: int, seed: int, scorer: HoldoutScorer, curve_every: int, out: str):
-    from stable_baselines3.common.callbacks import BaseCallback
-
-    from agents.rl import TrainSettings, load_run, train
-
-    curve: list[tuple[int, float, float]] = []
-
-    class HoldoutCurve(BaseCallback):  # watches only: deterministic predictions, no RNG drawn
-        def __init__(self):
-            super().__init__()
-            self.next = 0
-
-        def _on_step(self) -> bool:
-            if curve_every and self.num_timesteps >= self.next:
-                self.next += curve_every
-                res = scorer.play(lambda obs: self.model.predict(obs, deterministic=True)[0])
-                curve.append((int(self.num_timesteps), res["full_row_fraction"], res["mean_traversals"]))
-            return True
-
-    settings = TrainSettings(algo="ppo", timesteps=timesteps, n_envs=N_ENVS, seed=seed, eval_every=0, vector=True,
-                             hyperparameters=PPO_HP, progress=False)
-    run = train(cfg, settings, out, callbacks=[HoldoutCurve()])
-    model, _, _ = load_run(out)
-    if curve_every:  # the policy after the last update (the callback last saw it before that update)
-        res = scorer.play(lambda obs: model.predict(obs, deterministic=True)[0])
-        if curve and curve[-1][0] == int(run["timesteps_done"]):
-            curve.pop()
-        curve.append((int(run["timesteps_done"]), res["full_row_fraction"], res["mean_traversals"]))
-    return (lambda obs: model.predict(obs, deterministic=True)[0]), int(run["timesteps_done"]), run, curve
+        player = ParamMap.from_json_dict(rec["map"]) if "map" in rec else NearestNeighbour.from_json_dict(rec["table"])
+        out.append(dict(seed=seed, act=player.act, episodes=int(rec["episodes"]), wall_s=float(rec["wall_time"]),
+                        trained_at=rec["fidelity"], folder=str(folder)))
+    return out
 
 
-def load_ppo(cfg, run_dir: str):
-    """A policy ``aero-env train`` wrote, trained on this scene."""
-    from aero_env.config import ConfigError
+def score_rows(methods, seeds, root: Path, runner, fast, draws, flips: bool, holdout_seed: int,
+               policy_dir: str | None) -> tuple[list[dict], dict]:
+    """Every method's hold-out rows; and the actions each seed chose (for the design table). ``fast``: a runner
+    at ``reduced``, which replays each method's designs to show where the fast rung parts from ``mbd`` on them."""
+    from agents.context_maps import search_contexts
+    from agents.episode_runner import fresh_builds
 
-    from agents.rl import load_run
+    space = runner.space
+    obs = runner.observations(draws)
+    rebuilt = fresh_builds(space, draws, seed=7919 + holdout_seed)
+    noise = np.random.default_rng(4242 + holdout_seed).standard_normal((len(draws), space.dim)) * NOISE
+    start = single_action(space)
+    rows, chosen = [], {}
+    for method in methods:
+        t0 = time.perf_counter()
+        if method == "prototype":
+            players = [dict(seed=None, act=lambda o, a=space.action_for(dtype=np.float64): np.tile(a, (len(o), 1)),
+                            episodes=0, wall_s=0.0, trained_at="-")]
+        elif method == "single":
+            rec = single_record()
+            players = [dict(seed=None, act=lambda o: np.tile(start, (len(o), 1)), episodes=rec["episodes"],
+                            wall_s=rec["wall_s"], trained_at="mbd")]
+        elif method == "oracle":
+            before = runner.episodes
+            found = search_contexts(runner, draws, start, seed=0)
+            players = [dict(seed=0, act=lambda o, a=found.actions: a, episodes=runner.episodes - before,
+                            wall_s=time.perf_counter() - t0, trained_at="mbd (each hold-out episode)",
+                            solved=int(found.solved.sum()))]
+        elif method == "policy":
+            from agents.rl import load_run
 
-    model, trained_on, run = load_run(run_dir)
-    if trained_on != cfg:
-        raise ConfigError(f"--policy {run_dir}: trained on another scene than {CONFIG} (its config.yaml)")
-    return (lambda obs: model.predict(obs, deterministic=True)[0]), int(run.get("timesteps_done", run["timesteps"])), \
-        run
+            model, trained_on, run = load_run(policy_dir)
+            players = [dict(seed=run.get("seed"), act=lambda o, m=model: m.predict(o, deterministic=True)[0],
+                            episodes=int(run.get("timesteps_done", run["timesteps"])), wall_s=run.get("wall_time"),
+                            trained_at=trained_on.sim.fidelity, folder=policy_dir)]
+        else:
+            players = load_players(method, seeds, root, space)
+        whole, trav, flip_noise, flip_build, at_fast = [], [], [], [], []
+        parted_as: dict[str, int] = {}
+        for p in players:
+            actions = np.asarray(p["act"](obs), dtype=np.float64)
+            t, outcomes = runner.run(draws, actions)
+            w = t >= runner.full_row
+            whole.append(w)
+            trav.append(t)
+            at_fast.append(fast.whole_rows(draws, actions))
+            for i in np.flatnonzero(at_fast[-1] & ~w):  # a whole row at reduced that mbd refuses: what mbd says
+                parted_as[outcomes[i]] = parted_as.get(outcomes[i], 0) + 1
+            if flips:
+                flip_noise.append(float(np.mean(runner.whole_rows(draws, actions + noise) != w)))
+                flip_build.append(float(np.mean(runner.whole_rows(rebuilt, actions) != w)))
+            chosen.setdefault(method, []).append(actions)
+        whole, at_fast = np.array(whole), np.array(at_fast)
+        iqm, ci = iqm_interval(block_shares(whole, min(STRATA, len(draws))))
+        walls = [p["wall_s"] for p in players if p["wall_s"] is not None]
+        row = dict(method=method, seeds=len(players), seed_list=[p["seed"] for p in players], iqm=iqm, ci=ci,
+                   mean=float(whole.mean()), per_seed=[float(w.mean()) for w in whole],
+                   mean_traversals=float(np.mean(trav)), episodes=int(np.mean([p["episodes"] for p in players])),
+                   wall_s=float(np.mean(walls)) if walls else None, trained_at=players[0]["trained_at"],
+                   holdout=len(draws), at_reduced=float(at_fast.mean()),
+                   reduced_parts=float(np.mean(at_fast != whole)),
+                   reduced_false_rows=float(np.mean(at_fast & ~whole)), parted_as=dict(sorted(parted_as.items())),
+                   design_median={k: float(np.median(v)) for k, v in runner.space.values_columns(
+                       np.clip(np.concatenate(chosen[method]), -1.0, 1.0)).items()})
+        if flips:
+            row.update(flips_noise=float(np.mean(flip_noise)), flips_build=float(np.mean(flip_build)))
+        if "solved" in players[0]:
+            row["solved"] = players[0]["solved"]
+        rows.append(row)
+    by = {r["method"]: r for r in rows}
+    if {"single", "oracle"} <= set(by) and by["oracle"]["iqm"] > by["single"]["iqm"]:
+        gap = by["oracle"]["iqm"] - by["single"]["iqm"]
+        for r in rows:
+            r["gap_closed"] = (r["iqm"] - by["single"]["iqm"]) / gap
+    return rows, chosen
 
 
-def context_table(cfg, res: dict) -> list[dict]:
-    """For each design field: the context field its choice follows most (Spearman rho over the hold-out)."""
+def design_follows(cfg, obs: np.ndarray, actions: list[np.ndarray]) -> list[dict]:
+    """For each design field: the context field the choice follows most (Spearman rho, median over seeds), and
+    how much of its range the choice spans over the hold-out contexts (10-90 %, median over seeds)."""
     from scipy.stats import spearmanr
 
-    ctx_names = [c.name for c in cfg.context]
+    ctx = [c.name for c in cfg.context]
     rows = []
     for i, t in enumerate(cfg.tunable):
-        a = res["actions"][:, i]
-        # how far the choice moves over the contexts: the 10-90 % span of the action, as a share of the box
-        # (a rank correlation alone would call the faint, smooth tilt of an untrained network "following")
-        spread = float(np.percentile(a, 90) - np.percentile(a, 10)) / 2.0
-        if np.ptp(a) == 0:
-            rows.append(dict(design=t.name, context=None, rho=0.0, spread=0.0))
-            continue
-        rhos = [float(spearmanr(res["obs"][:, j], a).statistic) for j in range(len(ctx_names))]
-        j = int(np.argmax(np.abs(rhos)))
-        rows.append(dict(design=t.name, context=ctx_names[j], rho=rhos[j], spread=spread,
-                         all={n: r for n, r in zip(ctx_names, rhos)}))
+        rhos, spreads = [], []
+        for a in actions:
+            col = a[:, i]
+            spreads.append(float(np.percentile(col, 90) - np.percentile(col, 10)) / 2.0)
+            rhos.append([0.0 if np.ptp(col) == 0 else float(spearmanr(obs[:, j], col).statistic)
+                         for j in range(len(ctx))])
+        med = np.median(np.array(rhos), axis=0)
+        j = int(np.argmax(np.abs(med)))
+        rows.append(dict(design=t.name, context=ctx[j] if med[j] else None, rho=float(med[j]),
+                         spread=float(np.median(spreads))))
     return rows
 
 
-def plot_curve(curve, rows, path: str) -> None:
+def common_points(runs: list[list[dict]]) -> tuple[list[int], np.ndarray]:
+    """The curve points every seed has (by episodes learnt from), and each seed's whole-row share there."""
+    common = sorted(set.intersection(*[{p["episodes"] for p in c} for c in runs]))
+    shares = np.array([[{p["episodes"]: p["full_row_fraction"] for p in c}[t] for t in common] for c in runs])
+    return common, shares
+
+
+def curves(methods, seeds, root: Path) -> dict:
+    """Each RL method's learning curves on the watch contexts, one per seed, as shipped."""
+    out = {}
+    for method in methods:
+        if method not in RL_METHODS:
+            continue
+        got = []
+        for seed in seeds:
+            path = root / method / f"seed{seed}" / "curve.json"
+            if path.is_file():
+                got.append(json.loads(path.read_text())["curve"])
+        if got:
+            out[method] = got
+    return out
+
+
+def retrain_seconds(root: Path) -> float:
+    """What training every shipped policy and map took, by their own records (an RL run's curve included)."""
+    total = 0.0
+    for f in sorted(root.glob("*/seed*/run.json")):
+        run = json.loads(f.read_text())
+        total += float(run.get("wall_time_with_curve", run["wall_time"]))
+    for f in sorted(root.glob("*/seed*/policy.json")):
+        total += float(json.loads(f.read_text())["wall_time"])
+    return total
+
+
+def plot_curves(found: dict, single_watch: float | None, path: str) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7, 4))
-    t, share = [c[0] for c in curve], [100 * c[1] for c in curve]
-    ax.plot(t, share, "o-", color="C3", label="ppo policy (deterministic)")
-    for r, colour in zip(rows, ("C0", "C2", "C4")):
-        if r["method"] != "ppo":
-            ax.axhline(100 * r["full_row_fraction"], ls="--", color=colour, label=r["method"])
-    ax.set(xlabel="training episodes (= designs tried)", ylabel="hold-out contexts, whole row (%)",
-           title=f"{SCENE}: {len(rows) and rows[0]['holdout']} hold-out contexts", ylim=(0, 100))
-    ax.legend(loc="lower right")
+    fig, ax = plt.subplots(figsize=(7.5, 4.2))
+    for (method, runs), colour in zip(found.items(), ("C3", "C0", "C2", "C4")):
+        t, y = common_points(runs)
+        y = 100 * y
+        ax.plot(t, y.mean(axis=0), "o-", ms=3, color=colour, label=f"{method} (mean of {len(runs)} seeds)")
+        ax.fill_between(t, y.min(axis=0), y.max(axis=0), color=colour, alpha=0.15)
+    if single_watch is not None:
+        ax.axhline(100 * single_watch, ls="--", color="k", label="best single design")
+    ax.set(xlabel="training episodes (= designs tried)", ylabel="watch contexts, whole row (%)", ylim=(0, 100),
+           title=f"{SCENE}: learning curves at mbd (band: min-max over seeds)")
+    ax.legend(loc="lower right", fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
+def retrain(methods, seeds, root: Path, args) -> None:
+    from rl_policies import fit_baseline, train_rl
+
+    for method in methods:
+        for seed in seeds:
+            dest = root / method / f"seed{seed}"
+            if method in RL_METHODS:
+                train_rl(method, seed, args.timesteps, dest, args.watch, args.curve_every)
+            elif method in TRAINED:
+                fit_baseline(method, seed, dest, args.map_episodes, args.nn_contexts)
+
+
+def print_table(rep: dict) -> None:
+    seeds = holdout_seeds(rep["holdout_seed"], rep["holdout"])
+    print(f"{SCENE} ({CONFIG}), whole row = {rep['frames'] - 1} traversals; {rep['holdout']} hold-out contexts "
+          f"(seeds {seeds[0]}..{seeds[-1]}), every method scored at mbd")
+    print("| method | seeds | trained at | episodes / seed | wall / seed | whole row: IQM [95 % CI] | mean | "
+          "mean traversals | flips: 1e-6 / rebuilt | gap closed |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in rep["rows"]:
+        wall = "-" if r["wall_s"] is None else f"{r['wall_s']:.0f} s"
+        flips = f"{100 * r['flips_noise']:.1f} / {100 * r['flips_build']:.1f} %" if "flips_noise" in r else "-"
+        gap = f"{100 * r['gap_closed']:.0f} %" if "gap_closed" in r else "-"
+        print(f"| {r['method']} | {r['seeds']} | {r['trained_at']} | {r['episodes']} | {wall} | "
+              f"{100 * r['iqm']:.1f} % [{100 * r['ci'][0]:.1f}, {100 * r['ci'][1]:.1f}] | {100 * r['mean']:.1f} % | "
+              f"{r['mean_traversals']:.2f} | {flips} | {gap} |")
+    for r in rep["rows"]:
+        if r["seeds"] > 1:
+            print(f"{r['method']} per seed: " + ", ".join(f"{100 * s:.1f} %" for s in r["per_seed"]))
+    print("each method's own designs replayed at reduced (the fast rung):")
+    print("| method | whole row at reduced | at mbd | outcomes that part | rows reduced grants, mbd refuses | "
+          "mbd's outcome there |")
+    print("|---|---|---|---|---|---|")
+    for r in rep["rows"]:
+        said = ", ".join(f"{k} {v}" for k, v in r["parted_as"].items()) or "-"
+        print(f"| {r['method']} | {100 * r['at_reduced']:.1f} % | {100 * r['mean']:.1f} % | "
+              f"{100 * r['reduced_parts']:.1f} % | {100 * r['reduced_false_rows']:.1f} % | {said} |")
+    by = {r["method"]: r for r in rep["rows"]}
+    if {"ppo", "ppo-reduced"} <= set(by):
+        print("the designs chosen (median over hold-out contexts and seeds):")
+        print("| field | single | ppo | ppo-reduced |")
+        print("|---|---|---|---|")
+        for k, v in by["ppo"]["design_median"].items():
+            unit, scale = ("g", 1e3) if k.endswith(("m3",)) else ("N·mm/rad", 1e3) if "spring" in k else \
+                ("", 1.0) if k.startswith("design.mu") else ("mm", 1e3)
+            cells = [by[m]["design_median"][k] * scale if m in by else float("nan") for m in ("single", "ppo",
+                                                                                               "ppo-reduced")]
+            print(f"| {k} | " + " | ".join(f"{c:.4g} {unit}".strip() for c in cells) + " |")
+    print(f"training every policy and map in {rep['policies']} again (python benchmarks/rl_policies.py) took "
+          f"{rep['retrain_s'] / 60:.0f} min by their records")
+    for method, runs in rep["curves"].items():
+        t, y = common_points(runs)
+        pts = list(zip(t, y.mean(axis=0)))
+        print(f"{method} learning curve (watch contexts, mean of {len(runs)} seeds): " +
+              ", ".join(f"{e}: {100 * f:.0f} %" for e, f in pts[::2] + ([pts[-1]] if len(pts) % 2 == 0 else [])))
+    if rep["design_follows"]:
+        print(f"{rep['follows_method']}'s designs (median over seeds):")
+        print("| design field | its range used (10-90 % of contexts) | follows most | Spearman rho |")
+        print("|---|---|---|---|")
+        for f in rep["design_follows"]:
+            print(f"| {f['design']} | {100 * f['spread']:.0f} % | {f['context'] or '-'} | {f['rho']:+.2f} |")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--timesteps", type=int, default=40_960, help="PPO's training episodes (40 updates of 1,024)")
-    ap.add_argument("--tune-trials", type=int, default=400, help="designs the robust tune scores")
-    ap.add_argument("--seeds-per-design", type=int, default=32, help="contexts (episode seeds) per tuned design")
     ap.add_argument("--holdout", type=int, default=200, help="hold-out contexts")
     ap.add_argument("--holdout-seed", type=int, default=0, help="which hold-out contexts: seeds 10^6·(S+1) onward")
-    ap.add_argument("--seed", type=int, default=0, help="the tune's and the policy's seed")
-    ap.add_argument("--methods", default="prototype,single,ppo", help=f"comma-separated, of {', '.join(METHODS)}")
-    ap.add_argument("--policy", metavar="DIR", help="score the policy aero-env train wrote in DIR (no training here)")
-    ap.add_argument("--curve-every", type=int, default=4000, help="training episodes between curve points (0: none)")
-    ap.add_argument("--plot", metavar="FILE.png", help="draw the policy's learning curve")
+    ap.add_argument("--methods", default=",".join(METHODS), help=f"comma-separated, of {', '.join(METHODS)}")
+    ap.add_argument("--seeds", default="0-4", help="the training seeds scored (0-4 or 0,2,5)")
+    ap.add_argument("--policies", default=POLICIES, help="the shipped policies and maps (DIR/METHOD/seedS)")
+    ap.add_argument("--policy", metavar="DIR", help="also score the policy aero-env train wrote in DIR")
+    ap.add_argument("--no-flips", action="store_true", help="skip the knife-edge columns (two thirds of the episodes)")
+    ap.add_argument("--retrain", action="store_true", help="train every method's seeds again into --policies first")
+    ap.add_argument("--timesteps", type=int, default=40_960, help="with --retrain: an RL policy's training episodes")
+    ap.add_argument("--map-episodes", type=int, default=40_960, help="with --retrain: a map's CMA-ES episodes")
+    ap.add_argument("--nn-contexts", type=int, default=128, help="with --retrain: nearest neighbour's contexts")
+    ap.add_argument("--watch", type=int, default=200, help="with --retrain: contexts the learning curves watch")
+    ap.add_argument("--curve-every", type=int, default=4096, help="with --retrain: episodes between curve points")
+    ap.add_argument("--plot", metavar="FILE.png", help="draw the RL learning curves (watch contexts)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
-    from aero_env.config import ConfigError, load_config
-    from aero_env.design_space import DesignSpace
-
-    methods = args.methods.split(",")
-    bad = [m for m in methods if m not in METHODS]
-    for name, value, lo in (("--timesteps", args.timesteps, 1), ("--tune-trials", args.tune_trials, 1),
-                            ("--seeds-per-design", args.seeds_per_design, 1), ("--holdout", args.holdout, 1),
-                            ("--holdout-seed", args.holdout_seed, 0), ("--curve-every", args.curve_every, 0)):
-        if value < lo:
-            sys.exit(f"rl_vs_tuning: {name} = {value}: must be at least {lo}")
-    if bad:
-        sys.exit(f"rl_vs_tuning: --methods {bad[0]!r}: allowed {', '.join(METHODS)}")
+    methods, seeds = checked_args("rl_vs_tuning", args, METHODS, (
+        ("--timesteps", args.timesteps, 1), ("--map-episodes", args.map_episodes, 1),
+        ("--nn-contexts", args.nn_contexts, 1), ("--holdout", args.holdout, 1),
+        ("--holdout-seed", args.holdout_seed, 0), ("--watch", args.watch, 1), ("--curve-every", args.curve_every, 0)))
+    if args.retrain:
+        check_training_ranges("rl_vs_tuning", methods, seeds, args.map_episodes, args.nn_contexts)
     if args.policy and not Path(args.policy, "run.json").is_file():
         sys.exit(f"rl_vs_tuning: --policy {args.policy}: no run.json there; give a folder aero-env train wrote")
+    root = Path(args.policies)
+    if not args.retrain:
+        missing = [str(root / m / f"seed{s}") for m in methods if m in TRAINED for s in seeds
+                   if not (root / m / f"seed{s}").is_dir()]
+        if missing:
+            sys.exit(f"rl_vs_tuning: --policies {root}: no {missing[0]}; run with --retrain to train it (or "
+                     f"--seeds/--methods to score what is there)")
+    from aero_env.config import ConfigError, load_config
+    from agents.episode_runner import EpisodeRunner, draws_for_seeds
+
     cfg = load_config(CONFIG)
-    space = DesignSpace(cfg)
-    scorer = HoldoutScorer(cfg, holdout_seeds(args.holdout_seed, args.holdout))
-    rows, curve, chosen = [], [], None
-    one_design = (lambda a: lambda obs: np.tile(a, (len(obs), 1)))
+    if args.policy:
+        from agents.rl import load_run
+
+        _, trained_on, _ = load_run(args.policy)
+        if trained_on.replace({"sim.fidelity": cfg.sim.fidelity}) != cfg:  # any fidelity of this scene
+            sys.exit(f"rl_vs_tuning: --policy {args.policy}: trained on another scene than {CONFIG} (its config.yaml)")
+        methods.append("policy")
+    if args.retrain:
+        retrain(methods, seeds, root, args)
+    runner = EpisodeRunner(cfg)
+    fast = EpisodeRunner(load_config(CONFIG, {"sim.fidelity": "reduced"}))
     try:
-        for method in methods:
-            t0 = time.perf_counter()
-            extra = {}
-            if method == "prototype":
-                action, used = space.action_for(dtype=np.float64), 0
-                choose, wall = one_design(action), 0.0
-            elif method == "single":
-                action, used = stored_single(space)
-                choose, wall = one_design(action), None  # tuned once, not in this run
-                extra = dict(design=space.values(action), config=SINGLE)
-            elif method == "tuned":
-                action, used, r = run_single(cfg, args.tune_trials, args.seeds_per_design, args.seed)
-                choose, wall = one_design(action), time.perf_counter() - t0
-                extra = dict(design=space.values(action), tune_mean_reward=r.best_reward)
-            elif args.policy:
-                choose, used, run = load_ppo(cfg, args.policy)
-                wall, extra = run.get("wall_time"), dict(policy=args.policy)
-            else:
-                with tempfile.TemporaryDirectory(prefix="aero-ppo-") as out:
-                    choose, used, run, curve = run_ppo(cfg, args.timesteps, args.seed, scorer, args.curve_every,
-                                                       out)
-                    wall = float(run["wall_time"])
-            res = scorer.play(choose)
-            if method == "ppo":
-                chosen = res
-            rows.append(dict(method=method, episodes=used, wall_s=wall, holdout=args.holdout,
-                             full_row_fraction=res["full_row_fraction"], mean_traversals=res["mean_traversals"],
-                             **extra))
+        draws = draws_for_seeds(runner.space, holdout_seeds(args.holdout_seed, args.holdout))
+        rows, chosen = score_rows(methods, seeds, root, runner, fast, draws, not args.no_flips, args.holdout_seed,
+                                  args.policy)
+        found = curves(methods, seeds, root)
+        single_watch = None
+        if args.plot and found:
+            wd = draws_for_seeds(runner.space, watch_seeds(args.watch))
+            single_watch = float(np.mean(runner.whole_rows(wd, np.tile(single_action(runner.space),
+                                                                        (len(wd), 1)))))
     except ConfigError as exc:
         sys.exit(f"rl_vs_tuning: {exc}")
     finally:
-        scorer.close()
-    follows = context_table(cfg, chosen) if chosen is not None else []
-    by = {r["method"]: r for r in rows}
-    gain = (by["ppo"]["full_row_fraction"] - by["single"]["full_row_fraction"]) if {"ppo", "single"} <= set(by) \
-        else None
-    if args.plot and curve:
-        plot_curve(curve, rows, args.plot)
+        runner.close()
+        fast.close()
+    follows_method = next((m for m in ("ppo", "policy", "sac") if m in chosen), None)
+    follows = design_follows(cfg, runner.observations(draws), chosen[follows_method]) if follows_method else []
+    if args.plot and found:
+        plot_curves(found, single_watch, args.plot)
+    rep = dict(scene=SCENE, config=CONFIG, frames=cfg.scene.frames, holdout=args.holdout,
+               holdout_seed=args.holdout_seed, retrain_s=retrain_seconds(root), policies=str(root), rows=rows,
+               curves=found,
+               follows_method=follows_method, design_follows=follows, noise=NOISE, strata=STRATA,
+               bootstrap_reps=BOOTSTRAP_REPS)
     if args.json:
-        print(json.dumps(dict(scene=SCENE, config=CONFIG, frames=cfg.scene.frames, holdout=args.holdout,
-                              holdout_seed=args.holdout_seed, seed=args.seed, rows=rows,
-                              ppo_minus_single=gain, curve=[dict(episodes=t, full_row_fraction=f, mean_traversals=m)
-                                                            for t, f, m in curve],
-                              design_follows=follows), indent=2))
+        print(json.dumps(rep, indent=1))
         return
-    seeds = holdout_seeds(args.holdout_seed, args.holdout)
-    print(f"{SCENE} ({CONFIG}), whole row = {cfg.scene.frames - 1} traversals; {args.holdout} hold-out contexts "
-          f"(seeds {seeds[0]}..{seeds[-1]})")
-    print("| method | episodes | wall | hold-out whole row | mean traversals |")
-    print("|---|---|---|---|---|")
-    for r in rows:
-        wall = "tuned once (its header)" if r["wall_s"] is None else f"{r['wall_s']:.0f} s"
-        print(f"| {r['method']} | {r['episodes']} | {wall} | {100 * r['full_row_fraction']:.1f} % | "
-              f"{r['mean_traversals']:.2f} |")
-    if gain is not None:
-        print(f"ppo - single: {100 * gain:+.1f} points of hold-out whole rows")
-    if curve:
-        print("learning curve (hold-out whole row against training episodes): " +
-              ", ".join(f"{t}: {100 * f:.0f} %" for t, f, _ in curve))
-    if follows:
-        print("| design field | its range used (10-90 % of contexts) | follows most | Spearman rho |")
-        print("|---|---|---|---|")
-        for f in follows:
-            print(f"| {f['design']} | {100 * f['spread']:.0f} % | {f['context'] or '-'} | {f['rho']:+.2f} |")
-    if args.plot and curve:
+    print_table(rep)
+    if args.plot and found:
         print(f"wrote {args.plot}")
 
 

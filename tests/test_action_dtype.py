@@ -19,7 +19,7 @@ CONTEXTS = PAPER.parent / "contexts.yaml"
 SINGLE = PAPER.parent / "contexts_single.yaml"
 
 
-def _between_float32s(dim: int, seed: int) -> np.ndarray:
+def _between_float32s(dim: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
     """float64 actions that float32 cannot hold: each a float32 value plus a third of its spacing."""
     a32 = np.random.default_rng(seed).uniform(-0.9, 0.9, dim).astype(np.float32)
     a64 = a32.astype(np.float64) + np.spacing(a32).astype(np.float64) / 3.0

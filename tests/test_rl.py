@@ -305,3 +305,26 @@ def test_a_policy_runs_the_reduced_models_batches_on_one_thread_unless_numba_is_
         assert numba.get_num_threads() == cores
     finally:
         numba.set_num_threads(before)
+
+
+def test_training_at_reduced_says_what_it_risks_and_how_to_check_it(tmp_path, capsys):
+    """At sim.fidelity reduced, aero-env train says in one line that a policy can learn the fast model's errors,
+    and the check it names runs: the same policy scored at mbd. At mbd it says nothing of the kind."""
+    from aero_env import cli
+
+    base = ["train", str(PAPER.parent / "varied.yaml"), "--set", "scene.frames=3", "--timesteps", "32", "--n-envs",
+            "16", "--vector", "--eval-every", "0", "--hp", "n_steps=2", "--hp", "batch_size=16", "--no-progress"]
+    assert cli.main([*base, "--set", "sim.fidelity=reduced", "--out", str(tmp_path / "fast")]) == 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "sim.fidelity = reduced" in err and "a policy can learn to pick them" in err
+    check = err.split("score it where it will be used: ")[1].split(" (docs/")[0].split()
+    assert check == ["aero-env", "evaluate", str(tmp_path / "fast"), "--set", "sim.fidelity=mbd"]
+    assert cli.main([*check[1:], "--episodes", "2", "--json"]) == 0
+    rep = json.loads(capsys.readouterr().out)
+    assert (rep["fidelity"], rep["trained_at"]) == ("mbd", "reduced")
+    plain = [a for a in base if a != "--vector"]  # in this process: no pool at a pymunk fidelity
+    plain[plain.index("--n-envs") + 1] = "1"
+    plain[plain.index("n_steps=2")] = "n_steps=16"
+    assert cli.main([*plain, "--set", "sim.fidelity=mbd", "--out", str(tmp_path / "world")]) == 0, \
+        capsys.readouterr().err
+    assert "reduced" not in capsys.readouterr().err
