@@ -121,7 +121,7 @@ def load_players(method: str, seeds: list[int], root: Path, space) -> list[dict]
     return out
 
 
-def score_rows(methods, seeds, root: Path, runner, fast, draws, flips: bool, holdout_seed: int,
+def score_rows(methods, seeds: dict, root: Path, runner, fast, draws, flips: bool, holdout_seed: int,
                policy_dir: str | None) -> tuple[list[dict], dict]:
     """Every method's hold-out rows; and the actions each seed chose (for the design table). ``fast``: a runner
     at ``reduced``, which replays each method's designs to show where the fast rung parts from ``mbd`` on them."""
@@ -157,7 +157,7 @@ def score_rows(methods, seeds, root: Path, runner, fast, draws, flips: bool, hol
                             episodes=int(run.get("timesteps_done", run["timesteps"])), wall_s=run.get("wall_time"),
                             trained_at=trained_on.sim.fidelity, folder=policy_dir)]
         else:
-            players = load_players(method, seeds, root, space)
+            players = load_players(method, seeds[method], root, space)
         whole, trav, flip_noise, flip_build, at_fast = [], [], [], [], []
         parted_as: dict[str, int] = {}
         for p in players:
@@ -343,9 +343,12 @@ def main() -> None:
     ap.add_argument("--holdout", type=int, default=200, help="hold-out contexts")
     ap.add_argument("--holdout-seed", type=int, default=0, help="which hold-out contexts: seeds 10^6·(S+1) onward")
     ap.add_argument("--methods", default=",".join(METHODS), help=f"comma-separated, of {', '.join(METHODS)}")
-    ap.add_argument("--seeds", default="0-4", help="the training seeds scored (0-4 or 0,2,5)")
+    ap.add_argument("--seeds", help="the training seeds scored (0-4 or 0,2,5); default every seed 0-4 that "
+                                    "--policies holds (--retrain: 0-4)")
     ap.add_argument("--policies", default=POLICIES, help="the shipped policies and maps (DIR/METHOD/seedS)")
     ap.add_argument("--policy", metavar="DIR", help="also score the policy aero-env train wrote in DIR")
+    ap.add_argument("--skip-missing", action="store_true",
+                    help="with --seeds: score the ones a method has in --policies (the table says how many)")
     ap.add_argument("--no-flips", action="store_true", help="skip the knife-edge columns (two thirds of the episodes)")
     ap.add_argument("--retrain", action="store_true", help="train every method's seeds again into --policies first")
     ap.add_argument("--timesteps", type=int, default=40_960, help="with --retrain: an RL policy's training episodes")
@@ -356,6 +359,9 @@ def main() -> None:
     ap.add_argument("--plot", metavar="FILE.png", help="draw the RL learning curves (watch contexts)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
+    shipped = args.seeds is None and not args.retrain  # the default: whichever of seeds 0-4 are shipped
+    if args.seeds is None:
+        args.seeds = "0-4"
     methods, seeds = checked_args("rl_vs_tuning", args, METHODS, (
         ("--timesteps", args.timesteps, 1), ("--map-episodes", args.map_episodes, 1),
         ("--nn-contexts", args.nn_contexts, 1), ("--holdout", args.holdout, 1),
@@ -365,12 +371,18 @@ def main() -> None:
     if args.policy and not Path(args.policy, "run.json").is_file():
         sys.exit(f"rl_vs_tuning: --policy {args.policy}: no run.json there; give a folder aero-env train wrote")
     root = Path(args.policies)
+    have = {m: seeds for m in methods}  # each method's seeds to score
     if not args.retrain:
-        missing = [str(root / m / f"seed{s}") for m in methods if m in TRAINED for s in seeds
-                   if not (root / m / f"seed{s}").is_dir()]
+        missing = [(m, s) for m in methods if m in TRAINED for s in seeds if not (root / m / f"seed{s}").is_dir()]
+        if missing and not (args.skip_missing or shipped):
+            m, k = missing[0]
+            sys.exit(f"rl_vs_tuning: --policies {root}: no {root / m / f'seed{k}'}; run with --retrain to train it "
+                     f"(or --skip-missing to score the seeds there)")
         if missing:
-            sys.exit(f"rl_vs_tuning: --policies {root}: no {missing[0]}; run with --retrain to train it (or "
-                     f"--seeds/--methods to score what is there)")
+            for m in {m for m, _ in missing}:
+                if all((m, k) in missing for k in seeds):
+                    sys.exit(f"rl_vs_tuning: --policies {root}: no seed of {m} among --seeds {args.seeds}")
+            have = {m: [k for k in seeds if (m, k) not in missing] for m in methods}
     from aero_env.config import ConfigError, load_config
     from agents.episode_runner import EpisodeRunner, draws_for_seeds
 
@@ -388,7 +400,7 @@ def main() -> None:
     fast = EpisodeRunner(load_config(CONFIG, {"sim.fidelity": "reduced"}))
     try:
         draws = draws_for_seeds(runner.space, holdout_seeds(args.holdout_seed, args.holdout))
-        rows, chosen = score_rows(methods, seeds, root, runner, fast, draws, not args.no_flips, args.holdout_seed,
+        rows, chosen = score_rows(methods, have, root, runner, fast, draws, not args.no_flips, args.holdout_seed,
                                   args.policy)
         found = curves(methods, seeds, root)
         single_watch = None
