@@ -268,7 +268,7 @@ def plot_curves(found: dict, single_watch: float | None, path: str) -> None:
     if single_watch is not None:
         ax.axhline(100 * single_watch, ls="--", color="k", label="best single design")
     ax.set(xlabel="training episodes (= designs tried)", ylabel="watch contexts, whole row (%)", ylim=(0, 100),
-           title=f"{SCENE}: learning curves at mbd (band: min-max over seeds)")
+           title="learning curves at mbd on the watch contexts (band: min-max over seeds)")
     ax.legend(loc="lower right", fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
