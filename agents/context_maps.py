@@ -19,7 +19,7 @@ first (issue 35). This module builds them, each on the episodes of an :class:`Ep
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -125,7 +125,6 @@ class ContextSearch:
     traversals: np.ndarray   # what the kept design did on its context
     evaluations: np.ndarray  # episodes spent on each context
     obs: np.ndarray
-    extra: dict = field(default_factory=dict)
 
 
 def search_contexts(runner: EpisodeRunner, draws: list, start: np.ndarray, seed: int, max_evals: int = 200,
@@ -139,9 +138,8 @@ def search_contexts(runner: EpisodeRunner, draws: list, start: np.ndarray, seed:
     n = len(draws)
     start = np.asarray(start, dtype=np.float64)
     actions = np.tile(start, (n, 1))
-    trav = runner.traversals(draws, actions)
-    best = trav.copy()
-    solved = trav >= runner.full_row
+    best = runner.traversals(draws, actions)
+    solved = best >= runner.full_row
     evals = np.ones(n, dtype=np.int64)
     opts = {i: CMA(mean=start.copy(), sigma=SEARCH_STEP, bounds=np.tile([-1.0, 1.0], (len(start), 1)),
                    seed=seed * 100_003 + i, population_size=popsize) for i in np.flatnonzero(~solved)}

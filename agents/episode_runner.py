@@ -49,7 +49,7 @@ class EpisodeRunner:
         self.space = DesignSpace(cfg)
         self.reduced = cfg.sim.model == "reduced"
         self.full_row = cfg.scene.frames - 1
-        workers = os.cpu_count() or 1 if workers is None else workers
+        workers = (os.cpu_count() or 1) if workers is None else workers
         self._pool = None
         if not self.reduced and workers > 1:
             self._pool = ProcessPoolExecutor(workers, mp_context=get_context("spawn"))

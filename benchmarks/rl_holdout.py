@@ -1,4 +1,4 @@
-"""The maker's contexts as a benchmark: which contexts are held out, and how a map obs -> design is scored on them.
+"""The maker's contexts as a benchmark: which contexts are held out, and which are watched.
 
 Shared by ``benchmarks/rl_policies.py`` (which trains the shipped policies and watches their learning curves)
 and ``benchmarks/rl_vs_tuning.py`` (which scores every method). Three disjoint sets of episode seeds:
@@ -13,8 +13,6 @@ scored on the same seeds face the same contexts and the same builds.
 """
 
 from __future__ import annotations
-
-import os
 
 import numpy as np
 
@@ -40,37 +38,3 @@ def single_action(space) -> np.ndarray:
 
     single = load_config(SINGLE)
     return space.action_for({t.name: single.value(t.name) for t in space.tunables}, dtype=np.float64)
-
-
-class HoldoutScorer:
-    """Plays a map obs -> action on fixed contexts, every design of a batch in one call of the vector env (a
-    pool of one process per core at a pymunk fidelity)."""
-
-    def __init__(self, cfg, seeds: list[int]):
-        from aero_env.envs import AerialAcrobatVectorEnv
-
-        self.seeds = list(seeds)
-        self.envs = AerialAcrobatVectorEnv(len(self.seeds), cfg, workers=os.cpu_count() or 1)
-        self.full_row = cfg.scene.frames - 1
-
-    def observe(self) -> np.ndarray:
-        """The contexts' observations, as a policy sees them."""
-        obs, _ = self.envs.reset(seed=self.seeds)
-        return obs
-
-    def play(self, choose) -> dict:
-        """Score ``choose(obs) -> actions`` on these contexts: per context its traversals and whether it made the
-        whole row, and the designs the actions named."""
-        obs, _ = self.envs.reset(seed=self.seeds)
-        actions = np.clip(np.asarray(choose(obs), dtype=np.float64), -1.0, 1.0)
-        _, _, _, _, info = self.envs.step(actions)
-        done = info["final_info"]  # every episode ends in its one step; the vector env resets it in the same step
-        traversals = np.asarray(done["traversals"])
-        design = {k: np.asarray(v) for k, v in done["design"].items() if not k.startswith("_")}
-        return dict(obs=obs, actions=actions, traversals=traversals.tolist(),
-                    whole_row=(traversals >= self.full_row),
-                    full_row_fraction=float(np.mean(traversals >= self.full_row)),
-                    mean_traversals=float(np.mean(traversals)), design=design)
-
-    def close(self) -> None:
-        self.envs.close()

@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rl_holdout import CONFIG, SINGLE, HoldoutScorer, single_action, watch_seeds
+from rl_holdout import CONFIG, SINGLE, single_action, watch_seeds
 
 N_ENVS = 32
 TIMESTEPS = 40_960  # 40 PPO updates of 1,024 episodes
@@ -76,20 +76,23 @@ def train_rl(method: str, seed: int, timesteps: int, dest: Path, watch: int, cur
     from stable_baselines3.common.callbacks import BaseCallback
 
     from aero_env.config import load_config
+    from agents.episode_runner import EpisodeRunner, draws_for_seeds
     from agents.rl import TrainSettings, load_run, train
 
     spec = RL_METHODS[method]
     cfg = load_config(CONFIG, spec["overrides"])
-    scorer = HoldoutScorer(load_config(CONFIG), watch_seeds(watch))  # watched where the policy is used: mbd
+    scorer = EpisodeRunner(load_config(CONFIG))  # watched where the policy is used: mbd
+    draws = draws_for_seeds(scorer.space, watch_seeds(watch))
+    obs = scorer.observations(draws)
     curve: list[dict] = []
     watched = [0.0]
 
     def point(model, episodes: int) -> None:
         t0 = time.perf_counter()
-        res = scorer.play(lambda obs: model.predict(obs, deterministic=True)[0])
+        t = scorer.traversals(draws, model.predict(obs, deterministic=True)[0])
         watched[0] += time.perf_counter() - t0
-        curve.append(dict(episodes=episodes, full_row_fraction=res["full_row_fraction"],
-                          mean_traversals=res["mean_traversals"]))
+        curve.append(dict(episodes=episodes, full_row_fraction=float(np.mean(t >= scorer.full_row)),
+                          mean_traversals=float(np.mean(t))))
 
     class WatchCurve(BaseCallback):  # watches only: deterministic predictions, no RNG drawn
         """Scores the policy every ``curve_every`` episodes, labelled with the episodes it has learnt from: those

@@ -91,22 +91,27 @@ def single_record() -> dict:
     return dict(episodes=trials * seeds, wall_s=60.0 * int(minutes.group(1)) if minutes else None)
 
 
+def rl_player(folder, seed: int | None = None) -> dict:
+    """The deterministic policy a run folder holds (``aero-env train``'s or a shipped one), with its record;
+    ``seed``: the run's index among a method's seeds (default its ``--seed``)."""
+    from agents.rl import load_run
+
+    model, trained_on, run = load_run(folder)
+    return dict(seed=run.get("seed") if seed is None else seed,
+                act=lambda obs: model.predict(obs, deterministic=True)[0], episodes=int(run.get("timesteps_done", run["timesteps"])), wall_s=run.get("wall_time"),
+                trained_at=trained_on.sim.fidelity, folder=str(folder))
+
+
 def load_players(method: str, seeds: list[int], root: Path, space) -> list[dict]:
     """Each seed's map obs -> actions of ``method`` as shipped in ``root``, with its training record."""
     out = []
     for seed in seeds:
         folder = root / method / f"seed{seed}"
         if method in RL_METHODS:
-            from agents.rl import load_run
-
             if not (folder / "model.zip").is_file():
                 raise FileNotFoundError(f"{folder}: no model.zip; train it with python benchmarks/rl_policies.py "
                                         f"--methods {method} --seeds {seed}, or run this with --retrain")
-            model, _, run = load_run(folder)
-            out.append(dict(seed=seed, act=(lambda m: lambda obs: m.predict(obs, deterministic=True)[0])(model),
-                            episodes=int(run["timesteps_done"]), wall_s=float(run["wall_time"]),
-                            trained_at=RL_METHODS[method]["overrides"].get("sim.fidelity", "mbd"),
-                            folder=str(folder)))
+            out.append(rl_player(folder, seed))
             continue
         path = folder / "policy.json"
         if not path.is_file():
@@ -150,12 +155,7 @@ def score_rows(methods, seeds: dict, root: Path, runner, fast, draws, flips: boo
                             wall_s=time.perf_counter() - t0, trained_at="mbd (each hold-out episode)",
                             solved=int(found.solved.sum()))]
         elif method == "policy":
-            from agents.rl import load_run
-
-            model, trained_on, run = load_run(policy_dir)
-            players = [dict(seed=run.get("seed"), act=lambda o, m=model: m.predict(o, deterministic=True)[0],
-                            episodes=int(run.get("timesteps_done", run["timesteps"])), wall_s=run.get("wall_time"),
-                            trained_at=trained_on.sim.fidelity, folder=policy_dir)]
+            players = [rl_player(policy_dir)]
         else:
             players = load_players(method, seeds[method], root, space)
         whole, trav, flip_noise, flip_build, at_fast = [], [], [], [], []

@@ -16,8 +16,8 @@ from .jit import kernel
 
 from ...physics.swing_rules import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG
 from .constants import STALL_WINDOW
-from .hooked_dynamics import (distance, friction_cone, hook_on_frame, hooked_energy, normal_sum, slide_eval, slide_step,
-                              stick_eval, stick_step, theta2)
+from .hooked_dynamics import (distance, friction_cone, hook_on_frame, hooked_energy, normal_sum, slide_eval,
+                              slide_step, stick_eval, stick_step, theta2)
 from .impacts import impact
 from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_HELD_LONG, R_STOP_HOLD, R_TIMEOUT,
                      R_TURN_BACK, R_TURN_NEAR_STOP, P, W, X)
