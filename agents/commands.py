@@ -78,6 +78,9 @@ def register(sub, scene_command) -> None:
     rp.add_argument("--resume", action="store_true",
                     help="go on with the run in --out (stopped by Ctrl-C, or finished: up to --timesteps in all), with "
                          "the same CONFIG, --set, --algo, --n-envs, --vector, --seed, --eval-every and --hp")
+    rp.add_argument("--init-from", metavar="DIR",
+                    help="start from the policy of the PPO run in DIR (the same network and scene; its sim.fidelity "
+                         "may differ): pretrain at sim.fidelity=reduced, finish here at mbd")
     rp.add_argument("--no-progress", action="store_true", help="no progress bar")
     rp.set_defaults(func=cmd_train)
 
@@ -181,7 +184,7 @@ def cmd_train(args) -> int:
     if cfg.sim.model == "reduced":
         print(REDUCED_RISK.format(out=shlex.quote(str(args.out))), file=sys.stderr)
     try:
-        run = train(cfg, settings, args.out, overwrite=args.overwrite, resume=args.resume)
+        run = train(cfg, settings, args.out, overwrite=args.overwrite, resume=args.resume, init_from=args.init_from)
     except KeyboardInterrupt:  # before the first step: train left the folder as it found it
         print(f"aero-env train: interrupted before the first training step; {args.out} is as it was before",
               file=sys.stderr)
@@ -197,8 +200,11 @@ def cmd_train(args) -> int:
     else:
         done = run["timesteps_done"]
         rounded = "" if done == run["timesteps"] else f" (--timesteps {run['timesteps']}, rounded up to whole rounds)"
+        start = run.get("init_from")
+        since = "" if not start else (f", from the policy in {start['dir']} ({start['timesteps_done']} steps at "
+                                      f"{start['fidelity']})")
         print(f"trained {run['algo']} for {done} steps{rounded} on {run['n_envs']} env(s) in {run['wall_time']:.1f} s "
-              f"({run['episodes_per_second']:.1f} episodes/s)")
+              f"({run['episodes_per_second']:.1f} episodes/s){since}")
         print(f"wrote {args.out}/model.zip, config.yaml, run.json, learning_curve.png; "
               f"next: aero-env evaluate {args.out}")
     return 0

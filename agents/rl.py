@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import hashlib
 import json
 import math
 import os
@@ -200,9 +201,15 @@ def clear_run(out: Path) -> None:
         f.unlink()
 
 
-def _resume_state(cfg: Config, settings: "TrainSettings", out: Path) -> dict:
-    """The stopped run in ``out``, checked against this call: same scene and settings, more timesteps."""
+def _resume_state(cfg: Config, settings: "TrainSettings", out: Path, init_from: str | Path | None = None) -> dict:
+    """The stopped run in ``out``, checked against this call: same scene and settings (``init_from`` too: absent,
+    or the run's own start, so that the command that started the run resumes it), more timesteps."""
     before = json.loads((out / "run.json").read_text())
+    started = (before.get("init_from") or {}).get("dir")
+    if init_from is not None and (started is None or Path(started).resolve() != Path(init_from).resolve()):
+        raise ConfigError(f"--init-from {str(init_from)!r} with --resume: the run in {str(out)!r} started from "
+                          f"{'a new policy' if started is None else repr(started)}; resume it with that, or without "
+                          f"--init-from")
     if load_config(out / "config.yaml") != cfg:
         raise ConfigError(f"--resume: the run in {str(out)!r} was trained on another scene (its config.yaml); "
                           f"give the same CONFIG and --set, or a new --out")
@@ -218,6 +225,66 @@ def _resume_state(cfg: Config, settings: "TrainSettings", out: Path) -> dict:
         raise ConfigError(f"--timesteps {settings.timesteps}: the run in {str(out)!r} already has {done}; give more "
                           f"to go on with it, allowed [{done + 1}, 1000000000]")
     return dict(before, timesteps_done=done)
+
+
+def check_init_from(init_from: str | Path, cfg: Config, settings: "TrainSettings") -> dict:
+    """The run ``init_from`` holds, checked as a start for a new PPO run on ``cfg`` with ``settings`` (before any
+    work): a PPO run with the same network, trained on the same scene but for ``sim.fidelity`` (an action then names
+    the same design, and the context reads the same). Its fidelity may differ: that is what it is for (pretrain at
+    ``reduced``, finish at ``mbd``). Returns what the new run records of it, the start's own start nested (a chain
+    of stages is counted whole) and its policy file's sha256 (a benchmark can tell a start replaced since)."""
+    where = f"--init-from {str(init_from)!r}"
+    if settings.algo != "ppo":
+        # SAC keeps state outside its state dicts (the entropy coefficient, the replay buffer) and plays random
+        # designs for its first learning_starts steps: a weights-only start would not be the pretrained policy
+        raise ConfigError(f"{where} with --algo {settings.algo}: allowed with --algo ppo only (SAC's entropy "
+                          f"coefficient and replay buffer would not carry over)")
+    folder = Path(init_from)
+    missing = [name for name in ("run.json", "model.zip", "config.yaml") if not (folder / name).is_file()]
+    if missing:
+        raise ConfigError(f"{where}: no {', '.join(missing)} there; give a folder aero-env train wrote")
+    try:
+        before = json.loads((folder / "run.json").read_text())
+        trained_on = load_config(folder / "config.yaml")
+    except (ConfigError, ValueError) as e:
+        raise ConfigError(f"{where}: {str(e).splitlines()[0]}") from None
+    if before.get("algo") != "ppo":
+        raise ConfigError(f"{where}: a {before.get('algo')!r} run; allowed: a ppo run")
+    theirs = (before.get("hyperparameters") or {}).get("policy_kwargs")
+    ours = _jsonable(settings.algo_kwargs()).get("policy_kwargs")
+    if theirs != ours:
+        raise ConfigError(f"{where}: its network is policy_kwargs={theirs}, this run's {ours}; give the same "
+                          f"--hp policy_kwargs")
+    key = _first_difference(trained_on.replace({"sim.fidelity": cfg.sim.fidelity}).to_dict(), cfg.to_dict())
+    if key is not None:
+        raise ConfigError(f"{where}: trained on another scene ({key} differs; only sim.fidelity may); give the "
+                          f"CONFIG and --set it was trained with")
+    policy = folder / "model.zip"
+    _sb3()  # the rl extra, or its one-line MissingExtra
+    from stable_baselines3.common.save_util import load_from_zip_file
+
+    try:
+        load_from_zip_file(policy, load_data=False, device="cpu")
+    except Exception as e:  # a cut or foreign file: refused here, before this run writes anything
+        raise ConfigError(f"{where}: its model.zip does not load ({type(e).__name__}); train it again") from None
+    record = dict(dir=str(folder), fidelity=trained_on.sim.fidelity,
+                  timesteps_done=int(before.get("timesteps_done", before.get("timesteps", 0))),
+                  wall_time=before.get("wall_time"), seed=before.get("seed"),
+                  sha256=hashlib.sha256(policy.read_bytes()).hexdigest())
+    if before.get("init_from"):
+        record["init_from"] = before["init_from"]
+    return record
+
+
+def _first_difference(a: Any, b: Any, prefix: str = "") -> str | None:
+    """The first dotted key at which two config trees differ (None: they are the same)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(a.keys() | b.keys()):
+            found = _first_difference(a.get(k), b.get(k), f"{prefix}{k}.")
+            if found:
+                return found
+        return None
+    return None if a == b else prefix.rstrip(".")
 
 
 def _sb3():
@@ -296,7 +363,7 @@ def _close(venv) -> None:
 
 
 def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool = False,
-          resume: bool = False, callbacks: list | None = None) -> dict:
+          resume: bool = False, callbacks: list | None = None, init_from: str | Path | None = None) -> dict:
     """Train a policy on ``cfg``'s scene and write the run's directory; returns run.json's content.
 
     ``callbacks``: more SB3 callbacks to run beside the periodic evaluation (a benchmark's hold-out curve);
@@ -306,11 +373,20 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
     ``resume`` (go on with the run stopped there). Ctrl-C saves the run so far and raises
     :class:`TrainInterrupted`; before the first training step, it removes what this call wrote (a resumed run
     is left as it was) and raises KeyboardInterrupt. Either way ``out`` holds a whole run or none: every file
-    is written atomically, and a save runs to its end through a second Ctrl-C (:mod:`agents.interrupts`)."""
+    is written atomically, and a save runs to its end through a second Ctrl-C (:mod:`agents.interrupts`).
+
+    ``init_from``: a run folder whose policy (weights and optimiser state) this run starts from instead of a new
+    one (:func:`check_init_from`; PPO only): a policy pretrained at ``reduced`` finished at ``mbd``. ``run.json``
+    records it under ``init_from``; ``timesteps`` and ``wall_time`` count this run's own. Resuming such a run
+    takes the same ``init_from`` or none."""
     settings = settings.check()
     out = Path(out)
+    if init_from is not None and Path(init_from).resolve() == out.resolve():
+        raise ConfigError(f"--init-from {str(init_from)!r}: the run's own --out; copy the pretrained run elsewhere, "
+                          f"or give a new --out")
     check_run_dir(out, overwrite, resume)
-    before = _resume_state(cfg, settings, out) if resume else None
+    before = _resume_state(cfg, settings, out, init_from) if resume else None
+    start = check_init_from(init_from, cfg, settings) if init_from is not None and not resume else None
     sb3 = _sb3()
     if overwrite and out.is_dir():
         clear_run(out)
@@ -319,6 +395,8 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
     run = dict(algo=settings.algo, timesteps=settings.timesteps, n_envs=settings.n_envs, seed=settings.seed,
                eval_every=settings.eval_every, vector=settings.vector,
                hyperparameters=_jsonable(settings.algo_kwargs()))
+    if start or (before and "init_from" in before):
+        run["init_from"] = start or before["init_from"]
     todo, wall_before = settings.timesteps, 0.0
     if before:
         todo, wall_before = settings.timesteps - before["timesteps_done"], float(before.get("wall_time", 0.0))
@@ -332,7 +410,7 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
                     write_atomically(out / "config.yaml", lambda f: f.write(cfg.to_yaml().encode()))
                 venv = _vec_env(cfg, settings.n_envs, settings.seed + (1000 * segment), out,
                                 f"r{segment}-" if segment else "", settings.vector)
-                model, evaluation, extra = _model(sb3, cfg, settings, out, venv, before, segment)
+                model, evaluation, extra = _model(sb3, cfg, settings, out, venv, before, segment, start)
                 callbacks = [*(callbacks or []), *extra]
                 if settings.progress:
                     callbacks.append(_progress_bar(settings, todo))
@@ -363,9 +441,10 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
             raise TrainInterrupted(run, out) from None
 
 
-def _model(sb3, cfg: Config, settings: TrainSettings, out: Path, venv, before: dict | None, segment: int):
-    """The model to train (new, or the stopped run's), its periodic evaluation (None without) and the callbacks
-    that run it."""
+def _model(sb3, cfg: Config, settings: TrainSettings, out: Path, venv, before: dict | None, segment: int,
+           start: dict | None = None):
+    """The model to train (new, new from ``start``'s policy, or the stopped run's), its periodic evaluation (None
+    without) and the callbacks that run it."""
     from stable_baselines3.common.callbacks import EvalCallback
 
     cls = {"ppo": sb3.PPO, "sac": sb3.SAC}[settings.algo]
@@ -381,8 +460,10 @@ def _model(sb3, cfg: Config, settings: TrainSettings, out: Path, venv, before: d
             evaluation.evaluations_length = [list(r) for r in old["ep_lengths"]]
         callbacks.append(evaluation)
     if not before:
-        return cls("MlpPolicy", venv, seed=settings.seed, device="cpu", verbose=0, **settings.algo_kwargs()), \
-            evaluation, callbacks
+        model = cls("MlpPolicy", venv, seed=settings.seed, device="cpu", verbose=0, **settings.algo_kwargs())
+        if start:  # this run's settings, seed and env; the pretrained run's weights and optimiser state
+            model.set_parameters(str(Path(start["dir"]) / "model.zip"), exact_match=True, device="cpu")
+        return model, evaluation, callbacks
     model = cls.load(out / "model.zip", env=venv, device="cpu")
     model.set_random_seed(settings.seed + 1000 * segment)  # a resumed segment is seeded too
     if settings.algo == "sac" and (out / "replay_buffer.pkl").is_file():

@@ -1,13 +1,13 @@
 """Train the policies and maps that ``benchmarks/rl_vs_tuning.py`` scores, and ship them.
 
-    python benchmarks/rl_policies.py [--methods ppo,ppo-reduced,sac,linear-map,mlp-map,nearest-neighbour]
-                                     [--seeds 0-4] [--out policies/contexts] [--timesteps 40960]
+    python benchmarks/rl_policies.py [--methods ppo,ppo-reduced,sac,ppo-multifidelity,linear-map,...]
+                                     [--seeds 0-4] [--out policies/contexts] [--timesteps 40960] [--finish-episodes 3072]
                                      [--map-episodes 40960] [--nn-contexts 128] [--watch 200]
 
 Every method learns a map context -> design on ``configs/contexts.yaml`` from training contexts only
 (episode seeds below 10^5), once per seed, and writes ``OUT/METHOD/seedS/``:
 
-* **RL** (``ppo``, ``sac``, ``ppo-reduced``): ``aero-env train`` through the native vector env (32 designs a
+* **RL** (``ppo``, ``sac``, ``ppo-reduced``, ``ppo-multifidelity``): ``aero-env train`` through the native vector env (32 designs a
   step over a pool of one process per core) with :data:`RL_METHODS`' settings; ``run.json`` records the
   exact command. Shipped: ``model.zip`` (``PPO.load`` / ``SAC.load``), ``run.json``, ``config.yaml`` and
   ``curve.json``, the learning curve: the whole-row share on the **watch** contexts
@@ -15,6 +15,10 @@ Every method learns a map context -> design on ``configs/contexts.yaml`` from tr
   the final scores come from hold-out sets no curve sees, and no point of it picks a policy. ``wall_time``
   is the training's own time (the curve's episodes are timed apart and taken out). ``ppo-reduced`` trains
   at ``sim.fidelity: reduced``, the fast rung, and is watched at ``mbd``, where its designs are used.
+  ``ppo-multifidelity`` is the multi-fidelity recipe: it starts from the shipped ``ppo-reduced`` policy of the
+  same seed (``aero-env train --init-from``) and finishes it at ``mbd`` for ``--finish-episodes``
+  (:data:`FINISH_EPISODES`; docs/agents.md says how that was chosen). Its ``run.json`` counts the finish;
+  ``init_from`` records the pretraining's episodes and wall time.
 * **Maps tuned black-box** (``linear-map``, ``mlp-map``): :func:`agents.context_maps.fit_map`, CMA-ES at
   ``reduced`` for ``--map-episodes`` episodes, from the best single design (``configs/contexts_single.yaml``).
   Shipped: ``policy.json`` (the map's numbers, its episodes and wall time).
@@ -50,7 +54,9 @@ RL_METHODS = {
     "ppo": dict(algo="ppo", hp=PPO_HP, overrides={}),
     "ppo-reduced": dict(algo="ppo", hp=PPO_HP, overrides={"sim.fidelity": "reduced"}),
     "sac": dict(algo="sac", hp=SAC_HP, overrides={}),
+    "ppo-multifidelity": dict(algo="ppo", hp=PPO_HP, overrides={}, init_from="ppo-reduced"),
 }
+FINISH_EPISODES = 3072  # ppo-multifidelity's episodes at mbd: 3 PPO updates (docs/agents.md: chosen on the watch set)
 MAP_METHODS = {"linear-map": "linear", "mlp-map": "mlp"}
 METHODS = (*RL_METHODS, *MAP_METHODS, "nearest-neighbour")
 SHIPPED = ("model.zip", "run.json", "config.yaml", "curve.json")
@@ -63,16 +69,30 @@ def training_seed(seed: int) -> int:
     return seed * N_ENVS
 
 
-def train_command(method: str, seed: int, timesteps: int, out: str) -> str:
+def method_timesteps(method: str, timesteps: int, finish: int) -> int:
+    """A run's own episodes: ``--timesteps``, or ``--finish-episodes`` for a run that finishes a pretrained one."""
+    return finish if "init_from" in RL_METHODS[method] else timesteps
+
+
+def pretrained(method: str, seed: int, root: Path) -> Path | None:
+    """The shipped run a method starts from (None: it starts from scratch)."""
+    spec = RL_METHODS[method]
+    return Path(root, spec["init_from"], f"seed{seed}") if "init_from" in spec else None
+
+
+def train_command(method: str, seed: int, timesteps: int, finish: int, out: str, root: Path) -> str:
     spec = RL_METHODS[method]
     sets = "".join(f" --set {k}={v}" for k, v in spec["overrides"].items())
     hps = "".join(f" --hp {k}={v}" for k, v in spec["hp"].items())
-    return (f"aero-env train {CONFIG}{sets} --algo {spec['algo']} --timesteps {timesteps} --n-envs {N_ENVS} "
-            f"--vector --eval-every 0{hps} --seed {training_seed(seed)} --out {out}")
+    start = pretrained(method, seed, root)
+    init = f" --init-from {start}" if start else ""
+    return (f"aero-env train {CONFIG}{sets} --algo {spec['algo']} --timesteps {method_timesteps(method, timesteps, finish)} "
+            f"--n-envs {N_ENVS} --vector --eval-every 0{hps} --seed {training_seed(seed)}{init} --out {out}")
 
 
-def train_rl(method: str, seed: int, timesteps: int, dest: Path, watch: int, curve_every: int) -> dict:
-    """Train one policy and write its shipped files to ``dest``; returns its run.json."""
+def train_rl(method: str, seed: int, timesteps: int, dest: Path, watch: int, curve_every: int,
+             finish: int = FINISH_EPISODES) -> dict:
+    """Train one policy and write its shipped files to ``dest`` (``OUT/METHOD/seedS``); returns its run.json."""
     from stable_baselines3.common.callbacks import BaseCallback
 
     from aero_env.config import load_config
@@ -110,20 +130,24 @@ def train_rl(method: str, seed: int, timesteps: int, dest: Path, watch: int, cur
         def _on_step(self) -> bool:
             if curve_every and self.num_timesteps >= self.next:
                 self.next += curve_every
-                point(self.model, self.learnt)
+                if not curve or curve[-1]["episodes"] != self.learnt:  # no update since the last point: the same policy
+                    point(self.model, self.learnt)
             return True
 
-    settings = TrainSettings(algo=spec["algo"], timesteps=timesteps, n_envs=N_ENVS, seed=training_seed(seed),
-                             eval_every=0, vector=True, hyperparameters=spec["hp"], progress=False)
+    root = dest.parent.parent
+    start = pretrained(method, seed, root)
+    settings = TrainSettings(algo=spec["algo"], timesteps=method_timesteps(method, timesteps, finish), n_envs=N_ENVS,
+                             seed=training_seed(seed), eval_every=0, vector=True, hyperparameters=spec["hp"],
+                             progress=False)
     try:
         with tempfile.TemporaryDirectory(prefix="aero-policy-") as tmp:
-            run = train(cfg, settings, tmp, callbacks=[WatchCurve()])
+            run = train(cfg, settings, tmp, callbacks=[WatchCurve()], init_from=start)
             model, _, _ = load_run(tmp)
             point(model, int(run["timesteps_done"]))  # the policy after its last update
             run["wall_time_with_curve"] = run["wall_time"]
             run["wall_time"] = run["wall_time"] - watched[0]
             run["episodes_per_second"] = run["timesteps_done"] / run["wall_time"]
-            run["command"] = train_command(method, seed, timesteps, str(dest))
+            run["command"] = train_command(method, seed, timesteps, finish, str(dest), root)
             run.update(method=method, run=seed)
             Path(tmp, "run.json").write_text(json.dumps(run, indent=1) + "\n")
             Path(tmp, "curve.json").write_text(json.dumps(dict(watch_seeds=[watch_seeds(watch)[0], watch],
@@ -227,27 +251,45 @@ def check_training_ranges(prog: str, methods, seeds, map_episodes: int, nn_conte
                          f"(the watch and hold-out sets lie above); allowed seeds 0-{top}")
 
 
+def check_pretrained(prog: str, methods, seeds, root: Path) -> None:
+    """A method that finishes a pretrained policy needs that policy in ``root``, or its method earlier in
+    ``methods`` (trained first); a missing one is refused in one line before any training."""
+    for method in methods:
+        start = RL_METHODS.get(method, {}).get("init_from")
+        if start is None or start in methods:  # trained first (methods run in METHODS' order)
+            continue
+        for seed in seeds:
+            if not (pretrained(method, seed, root) / "model.zip").is_file():
+                sys.exit(f"{prog}: {method} seed {seed} starts from {pretrained(method, seed, root)}, which holds no "
+                         f"policy; train it first (--methods {start},{method})")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--methods", default=",".join(METHODS), help=f"comma-separated, of {', '.join(METHODS)}")
     ap.add_argument("--seeds", default="0-4", help="training seeds: 0-4 or 0,2,5")
     ap.add_argument("--out", default="policies/contexts", help="where they go (OUT/METHOD/seedS)")
     ap.add_argument("--timesteps", type=int, default=TIMESTEPS, help="an RL policy's training episodes")
+    ap.add_argument("--finish-episodes", type=int, default=FINISH_EPISODES,
+                    help="ppo-multifidelity's episodes at mbd, after its pretraining at reduced")
     ap.add_argument("--map-episodes", type=int, default=MAP_EPISODES, help="a map's CMA-ES episodes (at reduced)")
     ap.add_argument("--nn-contexts", type=int, default=NN_CONTEXTS, help="nearest neighbour's training contexts")
     ap.add_argument("--watch", type=int, default=200, help="contexts the learning curves watch")
     ap.add_argument("--curve-every", type=int, default=4096, help="training episodes between curve points (0: none)")
     args = ap.parse_args()
     methods, seeds = checked_args("rl_policies", args, METHODS, (
-        ("--timesteps", args.timesteps, 1), ("--map-episodes", args.map_episodes, 1),
+        ("--timesteps", args.timesteps, 1), ("--finish-episodes", args.finish_episodes, 1),
+        ("--map-episodes", args.map_episodes, 1),
         ("--nn-contexts", args.nn_contexts, 1), ("--watch", args.watch, 1), ("--curve-every", args.curve_every, 0)))
+    methods = [m for m in METHODS if m in methods]  # a pretraining before the run that finishes it
     check_training_ranges("rl_policies", methods, seeds, args.map_episodes, args.nn_contexts)
+    check_pretrained("rl_policies", methods, seeds, Path(args.out))
     t0 = time.perf_counter()
     for method in methods:
         for seed in seeds:
             dest = Path(args.out, method, f"seed{seed}")
             if method in RL_METHODS:
-                run = train_rl(method, seed, args.timesteps, dest, args.watch, args.curve_every)
+                run = train_rl(method, seed, args.timesteps, dest, args.watch, args.curve_every, args.finish_episodes)
                 print(f"{method} seed {seed}: {run['timesteps_done']} episodes in {run['wall_time']:.0f} s "
                       f"(+{run['wall_time_with_curve'] - run['wall_time']:.0f} s watching)", flush=True)
             else:

@@ -3,7 +3,8 @@ single design, on the maker's contexts, over training seeds, with intervals.
 
     python benchmarks/rl_vs_tuning.py [--holdout-seed S] [--holdout 200] [--methods M,...] [--seeds 0-4]
                                       [--policies policies/contexts] [--policy DIR] [--no-flips]
-                                      [--retrain [--timesteps 40960] [--map-episodes 40960] [--nn-contexts 128]]
+                                      [--retrain [--timesteps 40960] [--finish-episodes 3072] [--map-episodes 40960]
+                                       [--nn-contexts 128]]
                                       [--plot FILE.png] [--json]
 
 The scene is ``aero_env/AerialAcrobatContexts-v0`` (``configs/contexts.yaml``): every reset draws the row's rise
@@ -22,7 +23,9 @@ Methods (:data:`METHODS`):
   single design (:mod:`agents.context_maps`). ``nearest-neighbour``: the design a per-context search found
   for the nearest of 128 training contexts.
 * ``ppo``, ``sac``: trained at ``mbd`` through the native vector env, 40,960 episodes. ``ppo-reduced``: PPO
-  trained at ``reduced`` (the fast rung), scored at ``mbd`` like every method.
+  trained at ``reduced`` (the fast rung), scored at ``mbd`` like every method. ``ppo-multifidelity``: that
+  policy finished at ``mbd`` for 3,072 episodes (``aero-env train --init-from``); its episodes and wall time
+  count both stages.
 * ``oracle``: a search per hold-out context on that very episode (its context and its build), from the
   single design, until a design makes the whole row (193 episodes at most): the ceiling this benchmark can
   measure, not a bound (a method may make a row its budget did not find). It runs here.
@@ -38,6 +41,7 @@ by noise of 1e-6, and when every context is built again by hand (a fresh draw of
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import re
 import sys
@@ -48,9 +52,11 @@ from pathlib import Path
 import numpy as np
 
 from rl_holdout import CONFIG, SCENE, SINGLE, holdout_seeds, single_action, watch_seeds
-from rl_policies import MAP_METHODS, METHODS as TRAINED, RL_METHODS, check_training_ranges, checked_args
+from rl_policies import (FINISH_EPISODES, MAP_METHODS, METHODS as TRAINED, RL_METHODS, check_pretrained, check_training_ranges,
+                         checked_args)
 
-METHODS = ("prototype", "single", *MAP_METHODS, "nearest-neighbour", "ppo", "sac", "ppo-reduced", "oracle")
+METHODS = ("prototype", "single", *MAP_METHODS, "nearest-neighbour", "ppo", "sac", "ppo-reduced", "ppo-multifidelity",
+           "oracle")
 POLICIES = "policies/contexts"
 STRATA = 10        # blocks of hold-out contexts: the "tasks" of rliable's stratified bootstrap
 NOISE = 1e-6       # the knife-edge test's action noise
@@ -97,9 +103,33 @@ def rl_player(folder, seed: int | None = None) -> dict:
     from agents.rl import load_run
 
     model, trained_on, run = load_run(folder)
+    stages, start = [], run.get("init_from")
+    while start:  # every stage it started from (aero-env train --init-from), the first first
+        stages.insert(0, start)
+        start = start.get("init_from")
+    stages.append(dict(fidelity=trained_on.sim.fidelity, timesteps_done=int(run.get("timesteps_done", run["timesteps"])),
+                       wall_time=run.get("wall_time")))
+    episodes = sum(int(st["timesteps_done"]) for st in stages)
+    walls = [st.get("wall_time") for st in stages]
+    wall = None if None in walls else float(sum(walls))
+    at = stages[0]["fidelity"] if len(stages) == 1 else \
+        ", then ".join(f"{st['fidelity']} {st['timesteps_done']}" for st in stages)
     return dict(seed=run.get("seed") if seed is None else seed,
-                act=lambda obs: model.predict(obs, deterministic=True)[0], episodes=int(run.get("timesteps_done", run["timesteps"])), wall_s=run.get("wall_time"),
-                trained_at=trained_on.sim.fidelity, folder=str(folder))
+                act=lambda obs: model.predict(obs, deterministic=True)[0], episodes=episodes, wall_s=wall,
+                trained_at=at, folder=str(folder))
+
+
+def check_start_unchanged(method: str, seed: int, folder: Path, root: Path) -> None:
+    """A finished pretraining is scored only beside the pretrained policy it started from: one trained again since
+    would count another stage's episodes and time. Refused in one line, naming the command that mends it."""
+    start = json.loads((folder / "run.json").read_text()).get("init_from")
+    if not start or "init_from" not in RL_METHODS[method]:
+        return
+    shipped = root / RL_METHODS[method]["init_from"] / f"seed{seed}" / "model.zip"
+    if not shipped.is_file() or hashlib.sha256(shipped.read_bytes()).hexdigest() != start.get("sha256"):
+        sys.exit(f"rl_vs_tuning: {folder} was finished from another {RL_METHODS[method]['init_from']} policy than "
+                 f"{shipped.parent}'s; train it again: python benchmarks/rl_policies.py --methods {method} --seeds "
+                 f"{seed}")
 
 
 def load_players(method: str, seeds: list[int], root: Path, space) -> list[dict]:
@@ -111,6 +141,7 @@ def load_players(method: str, seeds: list[int], root: Path, space) -> list[dict]
             if not (folder / "model.zip").is_file():
                 raise FileNotFoundError(f"{folder}: no model.zip; train it with python benchmarks/rl_policies.py "
                                         f"--methods {method} --seeds {seed}, or run this with --retrain")
+            check_start_unchanged(method, seed, folder, root)
             out.append(rl_player(folder, seed))
             continue
         path = folder / "policy.json"
@@ -179,7 +210,8 @@ def score_rows(methods, seeds: dict, root: Path, runner, fast, draws, flips: boo
         row = dict(method=method, seeds=len(players), seed_list=[p["seed"] for p in players], iqm=iqm, ci=ci,
                    mean=float(whole.mean()), per_seed=[float(w.mean()) for w in whole],
                    mean_traversals=float(np.mean(trav)), episodes=int(np.mean([p["episodes"] for p in players])),
-                   wall_s=float(np.mean(walls)) if walls else None, trained_at=players[0]["trained_at"],
+                   wall_s=float(np.mean(walls)) if walls else None, wall_per_seed=walls,
+                   trained_at=players[0]["trained_at"],
                    holdout=len(draws), at_reduced=float(at_fast.mean()),
                    reduced_parts=float(np.mean(at_fast != whole)),
                    reduced_false_rows=float(np.mean(at_fast & ~whole)), parted_as=dict(sorted(parted_as.items())),
@@ -196,6 +228,21 @@ def score_rows(methods, seeds: dict, root: Path, runner, fast, draws, flips: boo
         for r in rows:
             r["gap_closed"] = (r["iqm"] - by["single"]["iqm"]) / gap
     return rows, chosen
+
+
+def recipe(rows: list[dict]) -> dict | None:
+    """The multi-fidelity recipe against PPO trained at mbd: its IQM, and its wall time (both stages) as a share
+    of PPO's (the goal: PPO's IQM in at most a third of its time). The wall times are medians over seeds: a seed
+    trained beside another job on the 2 cores would pull a mean."""
+    by = {r["method"]: r for r in rows}
+    if not {"ppo", "ppo-multifidelity"} <= set(by) or not (by["ppo"]["wall_per_seed"] and
+                                                            by["ppo-multifidelity"]["wall_per_seed"]):
+        return None
+    mf, ppo = by["ppo-multifidelity"], by["ppo"]
+    ours, theirs = float(np.median(mf["wall_per_seed"])), float(np.median(ppo["wall_per_seed"]))
+    return dict(iqm=mf["iqm"], ci=mf["ci"], ppo_iqm=ppo["iqm"], ppo_ci=ppo["ci"], reached=mf["iqm"] >= ppo["iqm"],
+                intervals_overlap=mf["ci"][0] <= ppo["ci"][1] and ppo["ci"][0] <= mf["ci"][1],
+                wall_s=ours, ppo_wall_s=theirs, wall_ratio=ours / theirs)
 
 
 def design_follows(cfg, obs: np.ndarray, actions: list[np.ndarray]) -> list[dict]:
@@ -263,7 +310,8 @@ def plot_curves(found: dict, single_watch: float | None, path: str) -> None:
     for (method, runs), colour in zip(found.items(), ("C3", "C0", "C2", "C4")):
         t, y = common_points(runs)
         y = 100 * y
-        ax.plot(t, y.mean(axis=0), "o-", ms=3, color=colour, label=f"{method} (mean of {len(runs)} seeds)")
+        after = ", mbd episodes after its pretraining at reduced" if "init_from" in RL_METHODS[method] else ""
+        ax.plot(t, y.mean(axis=0), "o-", ms=3, color=colour, label=f"{method} (mean of {len(runs)} seeds{after})")
         ax.fill_between(t, y.min(axis=0), y.max(axis=0), color=colour, alpha=0.15)
     if single_watch is not None:
         ax.axhline(100 * single_watch, ls="--", color="k", label="best single design")
@@ -278,11 +326,11 @@ def plot_curves(found: dict, single_watch: float | None, path: str) -> None:
 def retrain(methods, seeds, root: Path, args) -> None:
     from rl_policies import fit_baseline, train_rl
 
-    for method in methods:
+    for method in [m for m in TRAINED if m in methods]:  # a pretraining before the run that finishes it
         for seed in seeds:
             dest = root / method / f"seed{seed}"
             if method in RL_METHODS:
-                train_rl(method, seed, args.timesteps, dest, args.watch, args.curve_every)
+                train_rl(method, seed, args.timesteps, dest, args.watch, args.curve_every, args.finish_episodes)
             elif method in TRAINED:
                 fit_baseline(method, seed, dest, args.map_episodes, args.nn_contexts)
 
@@ -323,6 +371,13 @@ def print_table(rep: dict) -> None:
             cells = [by[m]["design_median"][k] * scale if m in by else float("nan") for m in ("single", "ppo",
                                                                                                "ppo-reduced")]
             print(f"| {k} | " + " | ".join(f"{c:.4g} {unit}".strip() for c in cells) + " |")
+    if rep.get("recipe"):
+        r = rep["recipe"]
+        print(f"the multi-fidelity recipe (ppo-multifidelity): IQM {100 * r['iqm']:.1f} % against ppo's "
+              f"{100 * r['ppo_iqm']:.1f} % ({'reached' if r['reached'] else 'not reached'}; the intervals "
+              f"{'overlap' if r['intervals_overlap'] else 'are apart'}), in {r['wall_s']:.0f} s a "
+              f"seed against ppo's {r['ppo_wall_s']:.0f} s (medians over seeds): {r['wall_ratio']:.2f} of its wall "
+              f"time (the goal: at most 1/3)")
     print(f"training every policy and map in {rep['policies']} again (python benchmarks/rl_policies.py) took "
           f"{rep['retrain_s'] / 60:.0f} min by their records")
     for method, runs in rep["curves"].items():
@@ -352,6 +407,8 @@ def main() -> None:
     ap.add_argument("--no-flips", action="store_true", help="skip the knife-edge columns (two thirds of the episodes)")
     ap.add_argument("--retrain", action="store_true", help="train every method's seeds again into --policies first")
     ap.add_argument("--timesteps", type=int, default=40_960, help="with --retrain: an RL policy's training episodes")
+    ap.add_argument("--finish-episodes", type=int, default=FINISH_EPISODES,
+                    help="with --retrain: ppo-multifidelity's episodes at mbd")
     ap.add_argument("--map-episodes", type=int, default=40_960, help="with --retrain: a map's CMA-ES episodes")
     ap.add_argument("--nn-contexts", type=int, default=128, help="with --retrain: nearest neighbour's contexts")
     ap.add_argument("--watch", type=int, default=200, help="with --retrain: contexts the learning curves watch")
@@ -363,11 +420,13 @@ def main() -> None:
     if args.seeds is None:
         args.seeds = "0-4"
     methods, seeds = checked_args("rl_vs_tuning", args, METHODS, (
-        ("--timesteps", args.timesteps, 1), ("--map-episodes", args.map_episodes, 1),
+        ("--timesteps", args.timesteps, 1), ("--finish-episodes", args.finish_episodes, 1),
+        ("--map-episodes", args.map_episodes, 1),
         ("--nn-contexts", args.nn_contexts, 1), ("--holdout", args.holdout, 1),
         ("--holdout-seed", args.holdout_seed, 0), ("--watch", args.watch, 1), ("--curve-every", args.curve_every, 0)))
     if args.retrain:
         check_training_ranges("rl_vs_tuning", methods, seeds, args.map_episodes, args.nn_contexts)
+        check_pretrained("rl_vs_tuning", [m for m in TRAINED if m in methods], seeds, Path(args.policies))
     if args.policy and not Path(args.policy, "run.json").is_file():
         sys.exit(f"rl_vs_tuning: --policy {args.policy}: no run.json there; give a folder aero-env train wrote")
     root = Path(args.policies)
@@ -419,7 +478,7 @@ def main() -> None:
         plot_curves(found, single_watch, args.plot)
     rep = dict(scene=SCENE, config=CONFIG, frames=cfg.scene.frames, holdout=args.holdout,
                holdout_seed=args.holdout_seed, retrain_s=retrain_seconds(root), policies=str(root), rows=rows,
-               curves=found,
+               curves=found, recipe=recipe(rows),
                follows_method=follows_method, design_follows=follows, noise=NOISE, strata=STRATA,
                bootstrap_reps=BOOTSTRAP_REPS)
     if args.json:

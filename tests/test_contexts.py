@@ -244,12 +244,14 @@ def test_rl_vs_tuning_retrains_every_kind_of_method_into_a_folder(tmp_path):
     policy that was scored, and a policy aero-env train wrote scores as its own row."""
     args = [sys.executable, "benchmarks/rl_vs_tuning.py", "--holdout", "6", "--holdout-seed", "3", "--json",
             "--retrain", "--policies", str(tmp_path / "p"), "--seeds", "0", "--no-flips",
-            "--methods", "linear-map,nearest-neighbour,ppo", "--timesteps", "64", "--map-episodes", "1500",
+            "--methods", "linear-map,nearest-neighbour,ppo,ppo-reduced,ppo-multifidelity", "--timesteps", "64",
+            "--finish-episodes", "32", "--map-episodes", "1500",
             "--nn-contexts", "3", "--watch", "4", "--curve-every", "32"]
     done = subprocess.run(args, capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert done.returncode == 0, done.stderr
     rep = json.loads(done.stdout)
-    assert [r["method"] for r in rep["rows"]] == ["linear-map", "nearest-neighbour", "ppo"]
+    assert [r["method"] for r in rep["rows"]] == ["linear-map", "nearest-neighbour", "ppo", "ppo-reduced",
+                                                  "ppo-multifidelity"]
     assert (tmp_path / "p" / "ppo" / "seed0" / "model.zip").is_file()
     for m in ("linear-map", "nearest-neighbour"):
         rec = json.loads((tmp_path / "p" / m / "seed0" / "policy.json").read_text())
@@ -258,6 +260,16 @@ def test_rl_vs_tuning_retrains_every_kind_of_method_into_a_folder(tmp_path):
     assert by["linear-map"]["episodes"] <= 1500 and by["linear-map"]["trained_at"] == "reduced"
     run = json.loads((tmp_path / "p" / "ppo" / "seed0" / "run.json").read_text())
     assert run["command"].startswith("aero-env train configs/contexts.yaml --algo ppo --timesteps 64")
+    # the recipe finishes at mbd the ppo-reduced policy of its seed, and counts both stages
+    pre = json.loads((tmp_path / "p" / "ppo-reduced" / "seed0" / "run.json").read_text())
+    fin = json.loads((tmp_path / "p" / "ppo-multifidelity" / "seed0" / "run.json").read_text())
+    assert fin["init_from"]["dir"] == str(tmp_path / "p" / "ppo-reduced" / "seed0")
+    assert fin["init_from"]["fidelity"] == "reduced"
+    assert f"--init-from {tmp_path / 'p' / 'ppo-reduced' / 'seed0'} " in fin["command"]
+    mf = by["ppo-multifidelity"]
+    assert mf["episodes"] == pre["timesteps_done"] + fin["timesteps_done"] and mf["trained_at"].startswith("reduced")
+    assert mf["wall_s"] == pytest.approx(pre["wall_time"] + fin["wall_time"])
+    assert rep["recipe"]["wall_ratio"] == pytest.approx((pre["wall_time"] + fin["wall_time"]) / run["wall_time"])
     curve = rep["curves"]["ppo"][0]
     assert len(curve) >= 2 and curve[-1]["episodes"] == by["ppo"]["episodes"] == run["timesteps_done"]
     assert {f["design"] for f in rep["design_follows"]} == {t.name for t in load_config(CONTEXTS).tunable}
@@ -269,9 +281,23 @@ def test_rl_vs_tuning_retrains_every_kind_of_method_into_a_folder(tmp_path):
     mine = {r["method"]: r for r in json.loads(again.stdout)["rows"]}["policy"]
     assert mine["mean_traversals"] == by["ppo"]["mean_traversals"] and mine["episodes"] == by["ppo"]["episodes"]
     for argv, line in ((["--methods", "dqn"], "rl_policies: --methods 'dqn': allowed ppo, ppo-reduced, sac, "
-                                              "linear-map, mlp-map, nearest-neighbour"),
+                                              "ppo-multifidelity, linear-map, mlp-map, nearest-neighbour"),
+                       (["--methods", "ppo-multifidelity", "--seeds", "0", "--out", str(tmp_path / "none")],
+                        f"rl_policies: ppo-multifidelity seed 0 starts from {tmp_path / 'none' / 'ppo-reduced' / 'seed0'}, "
+                        f"which holds no policy; train it first (--methods ppo-reduced,ppo-multifidelity)"),
                        (["--seeds", "two"], "rl_policies: --seeds 'two': give seeds (0 or more) as 0-4 or 0,2,5"),
                        (["--map-episodes", "0"], "rl_policies: --map-episodes = 0: must be at least 1")):
         bad = subprocess.run([sys.executable, "benchmarks/rl_policies.py", *argv], capture_output=True, text=True,
                              cwd=ROOT, timeout=600)
         assert bad.returncode != 0 and bad.stderr.strip() == line and not bad.stdout
+    # a pretraining trained again after the finish that started from it: the pair is refused, not mixed
+    done = subprocess.run([sys.executable, "benchmarks/rl_policies.py", "--methods", "ppo-reduced", "--seeds", "0",
+                           "--timesteps", "2048", "--curve-every", "0", "--out", str(tmp_path / "p")],
+                          capture_output=True, text=True, cwd=ROOT, timeout=600)
+    assert done.returncode == 0, done.stderr
+    stale = subprocess.run([sys.executable, "benchmarks/rl_vs_tuning.py", "--holdout", "2", "--no-flips", "--methods",
+                            "ppo-multifidelity", "--policies", str(tmp_path / "p"), "--seeds", "0"],
+                           capture_output=True, text=True, cwd=ROOT, timeout=600)
+    assert stale.returncode != 0 and stale.stderr.count("\n") == 1, stale.stderr
+    assert stale.stderr.startswith(f"rl_vs_tuning: {tmp_path / 'p' / 'ppo-multifidelity' / 'seed0'} was finished "
+                                   f"from another ppo-reduced policy"), stale.stderr

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import subprocess
 import sys
@@ -328,3 +329,85 @@ def test_training_at_reduced_says_what_it_risks_and_how_to_check_it(tmp_path, ca
     assert cli.main([*plain, "--set", "sim.fidelity=mbd", "--out", str(tmp_path / "world")]) == 0, \
         capsys.readouterr().err
     assert "reduced" not in capsys.readouterr().err
+
+
+def test_init_from_starts_a_run_at_mbd_from_a_policy_pretrained_at_reduced(tmp_path, capsys):
+    """--init-from: the multi-fidelity recipe. The new run at mbd starts from the pretrained run's weights and
+    optimiser state (seen by a callback before the first update), with its own seed and settings, the same way
+    twice, and records where it started; the command that started it resumes it; a start that cannot name the
+    same designs is refused in one line before any work."""
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    varied = load_config(PAPER.parent / "varied.yaml", {"scene.frames": 3})
+    hp = {"n_steps": 16, "batch_size": 16, "n_epochs": 1}
+    fast = varied.replace({"sim.fidelity": "reduced"})
+    pre = train(fast, TrainSettings(algo="ppo", timesteps=64, n_envs=16, seed=3, eval_every=0, vector=True,
+                                    progress=False, hyperparameters={**hp, "n_steps": 4}), tmp_path / "pre")
+    pretrained_model = load_run(tmp_path / "pre")[0]
+    pretrained = params(pretrained_model)
+    moments = [v["exp_avg"].numpy().copy() for v in pretrained_model.policy.optimizer.state_dict()["state"].values()]
+    fresh = params(PPO("MlpPolicy", make_env(varied.to_dict()), seed=5, device="cpu",
+                       **TrainSettings(hyperparameters=hp).algo_kwargs()))
+    seen = []
+
+    class AtStart(BaseCallback):
+        def _on_training_start(self) -> None:
+            state = self.model.policy.optimizer.state_dict()["state"]
+            seen.append((params(self.model), [v["exp_avg"].numpy().copy() for v in state.values()]))
+
+        def _on_step(self) -> bool:
+            return True
+
+    settings = TrainSettings(algo="ppo", timesteps=16, n_envs=1, seed=5, eval_every=0, progress=False,
+                             hyperparameters=hp)
+    run = train(varied, settings, tmp_path / "finish", callbacks=[AtStart()], init_from=tmp_path / "pre")
+    weights, adam = seen[0]
+    assert all(np.array_equal(a, b) for a, b in zip(weights, pretrained))
+    assert any(not np.array_equal(a, b) for a, b in zip(weights, fresh))
+    assert len(adam) == len(moments) > 0 and all(np.array_equal(a, b) for a, b in zip(adam, moments))
+    assert run["init_from"]["fidelity"] == "reduced" and run["init_from"]["timesteps_done"] == pre["timesteps_done"]
+    assert json.loads((tmp_path / "finish" / "run.json").read_text())["init_from"] == run["init_from"]
+    assert run["timesteps_done"] == 16 and load_run(tmp_path / "finish")[1].sim.fidelity == "mbd"
+    train(varied, settings, tmp_path / "twin", init_from=tmp_path / "pre")  # the same start and seed: the same run
+    finished = params(load_run(tmp_path / "finish")[0])
+    assert all(np.array_equal(a, b) for a, b in zip(finished, params(load_run(tmp_path / "twin")[0])))
+    assert any(not np.array_equal(a, b) for a, b in zip(finished, pretrained))
+    # the command that started it resumes it, and keeps the record; another start is refused
+    more = dataclasses.replace(settings, timesteps=32)
+    assert train(varied, more, tmp_path / "twin", resume=True, init_from=tmp_path / "pre")["init_from"] == \
+        run["init_from"]
+    with pytest.raises(ConfigError, match="started from"):
+        train(varied, dataclasses.replace(settings, timesteps=48), tmp_path / "twin", resume=True,
+              init_from=tmp_path / "finish")
+    # refused before any work, naming the option: SAC, another scene (the action's scale, the row), its own folder,
+    # not a run
+    tunable = varied.to_dict()["tunable"]
+    logged = next(i for i, t in enumerate(tunable) if t.get("scale") == "log")
+    tunable[logged] = dict(tunable[logged], scale="linear")
+    bad = [(dict(algo="sac"), {}, tmp_path / "pre", "allowed with --algo ppo only"),
+           ({}, {"tunable": tunable}, tmp_path / "pre", "(tunable differs; only sim.fidelity may)"),
+           ({}, {"scene.frames": 4}, tmp_path / "pre", "(scene.frames differs; only sim.fidelity may)"),
+           ({}, {}, tmp_path / "no-such-run", "no run.json, model.zip, config.yaml there")]
+    for change, override, start, words in bad:
+        cfg = varied.replace(override) if override else varied
+        with pytest.raises(ConfigError, match="--init-from") as e:
+            train(cfg, TrainSettings(**{**dict(algo="ppo", timesteps=16, eval_every=0, progress=False), **change}),
+                  tmp_path / "refused", init_from=start)
+        assert words in str(e.value) and "\n" not in str(e.value)
+        assert not (tmp_path / "refused").exists()
+    kept = (tmp_path / "pre" / "run.json").read_text()
+    with pytest.raises(ConfigError, match="own --out"):
+        train(varied, settings, tmp_path / "pre", overwrite=True, init_from=tmp_path / "pre")
+    assert (tmp_path / "pre" / "run.json").read_text() == kept
+    assert all(np.array_equal(a, b) for a, b in zip(params(load_run(tmp_path / "pre")[0]), pretrained))
+    from aero_env import cli
+
+    line = ["train", str(PAPER.parent / "varied.yaml"), "--set", "scene.frames=3", "--timesteps", "16", "--eval-every",
+            "0", "--hp", "n_steps=16", "--hp", "batch_size=16", "--hp", "n_epochs=1", "--no-progress"]
+    capsys.readouterr()
+    assert cli.main([*line, "--init-from", str(tmp_path / "finish" / "x"), "--out", str(tmp_path / "c")]) != 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--init-from" in err and "Traceback" not in err and not (tmp_path / "c").exists()
+    assert cli.main([*line, "--init-from", str(tmp_path / "pre"), "--out", str(tmp_path / "cli")]) == 0
+    assert f"from the policy in {tmp_path / 'pre'} (64 steps at reduced)" in capsys.readouterr().out
+    assert json.loads((tmp_path / "cli" / "run.json").read_text())["init_from"]["dir"] == str(tmp_path / "pre")
