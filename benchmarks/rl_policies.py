@@ -11,8 +11,9 @@ Every method learns a map context -> design on ``configs/contexts.yaml`` from tr
   step over a pool of one process per core) with :data:`RL_METHODS`' settings; ``run.json`` records the
   exact command. Shipped: ``model.zip`` (``PPO.load`` / ``SAC.load``), ``run.json``, ``config.yaml`` and
   ``curve.json``, the learning curve: the whole-row share on the **watch** contexts
-  (``rl_holdout.WATCH_BASE``) at ``mbd`` every ``--curve-every`` training episodes. The curve only watches:
-  the final scores come from hold-out sets no curve sees, and no point of it picks a policy. ``wall_time``
+  (``rl_holdout.WATCH_BASE``) at ``mbd`` every ``--curve-every`` training episodes (a finish: after every PPO
+  update). The curve only watches: the final scores come from hold-out sets no curve sees, and no point of it
+  picks a policy. ``wall_time``
   is the training's own time (the curve's episodes are timed apart and taken out). ``ppo-reduced`` trains
   at ``sim.fidelity: reduced``, the fast rung, and is watched at ``mbd``, where its designs are used.
   ``ppo-multifidelity`` is the multi-fidelity recipe: it starts from the shipped ``ppo-reduced`` policy of the
@@ -100,6 +101,8 @@ def train_rl(method: str, seed: int, timesteps: int, dest: Path, watch: int, cur
     from agents.rl import TrainSettings, load_run, train
 
     spec = RL_METHODS[method]
+    if "init_from" in spec and curve_every:  # a short finish: a point after each PPO update
+        curve_every = min(curve_every, N_ENVS * PPO_HP["n_steps"])
     cfg = load_config(CONFIG, spec["overrides"])
     scorer = EpisodeRunner(load_config(CONFIG))  # watched where the policy is used: mbd
     draws = draws_for_seeds(scorer.space, watch_seeds(watch))
