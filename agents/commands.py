@@ -168,7 +168,8 @@ def cmd_tune(args) -> int:
 # world on some designs, and a policy trained on it can learn to choose exactly those
 REDUCED_RISK = ("aero-env train: sim.fidelity = reduced trains on the fast model, which parts from the world on some "
                 "designs, and a policy can learn to pick them; score it where it will be used: aero-env evaluate "
-                "{out} --set sim.fidelity=mbd (docs/agents.md#the-fast-rung-and-a-policy)")
+                "{out} --set sim.fidelity=mbd; finish it there: this command at sim.fidelity=mbd with --init-from "
+                "{out}, a new --out and a few thousand --timesteps (docs/agents.md#the-fast-rung-and-a-policy)")
 
 
 def cmd_train(args) -> int:

@@ -318,17 +318,20 @@ def test_training_at_reduced_says_what_it_risks_and_how_to_check_it(tmp_path, ca
     assert cli.main([*base, "--set", "sim.fidelity=reduced", "--out", str(tmp_path / "fast")]) == 0
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "sim.fidelity = reduced" in err and "a policy can learn to pick them" in err
-    check = err.split("score it where it will be used: ")[1].split(" (docs/")[0].split()
+    check = err.split("score it where it will be used: ")[1].split("; finish it there")[0].split()
     assert check == ["aero-env", "evaluate", str(tmp_path / "fast"), "--set", "sim.fidelity=mbd"]
+    assert f"with --init-from {tmp_path / 'fast'}, a new --out" in err
     assert cli.main([*check[1:], "--episodes", "2", "--json"]) == 0
     rep = json.loads(capsys.readouterr().out)
     assert (rep["fidelity"], rep["trained_at"]) == ("mbd", "reduced")
     plain = [a for a in base if a != "--vector"]  # in this process: no pool at a pymunk fidelity
     plain[plain.index("--n-envs") + 1] = "1"
     plain[plain.index("n_steps=2")] = "n_steps=16"
-    assert cli.main([*plain, "--set", "sim.fidelity=mbd", "--out", str(tmp_path / "world")]) == 0, \
-        capsys.readouterr().err
+    # the finish it names (the same command at mbd, from the fast run) runs, and says nothing of the kind
+    assert cli.main([*plain, "--set", "sim.fidelity=mbd", "--init-from", str(tmp_path / "fast"), "--out",
+                     str(tmp_path / "world")]) == 0, capsys.readouterr().err
     assert "reduced" not in capsys.readouterr().err
+    assert json.loads((tmp_path / "world" / "run.json").read_text())["init_from"]["fidelity"] == "reduced"
 
 
 def test_init_from_starts_a_run_at_mbd_from_a_policy_pretrained_at_reduced(tmp_path, capsys):
