@@ -12,13 +12,12 @@ design), so a runner's episode and ``env.step`` on the same seed are the same ru
 from __future__ import annotations
 
 import os
-from concurrent.futures import ProcessPoolExecutor
-from multiprocessing import get_context
 
 import numpy as np
 
 from aero_env.config import Config
 from aero_env.design_space import DesignSpace, Draw
+from aero_env.process_pool import worker_pool
 from aero_env.simulation import simulate
 
 
@@ -52,7 +51,7 @@ class EpisodeRunner:
         workers = (os.cpu_count() or 1) if workers is None else workers
         self._pool = None
         if not self.reduced and workers > 1:
-            self._pool = ProcessPoolExecutor(workers, mp_context=get_context("spawn"))
+            self._pool = worker_pool(workers)
         self.episodes = 0  # episodes run so far (a method's budget is counted here)
 
     def observations(self, draws: list[Draw]) -> np.ndarray:

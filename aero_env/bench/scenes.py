@@ -21,13 +21,12 @@ from __future__ import annotations
 import json
 import os
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass
-from multiprocessing import get_context
 from pathlib import Path
 
 from ..config import ConfigError, load_config
 from ..design_space import changes_outside_tunables
+from ..process_pool import worker_pool
 from ..scene_args import add_seed
 from .designs import check_counts, draw_designs
 
@@ -96,7 +95,7 @@ def suite(folder: str | os.PathLike = DEFAULT_DIR, designs: int = DEFAULT_DESIGN
     paths = scene_paths(folder)
     if workers == 1:
         return [measure(p, designs, seed, None, reference) for p in paths]
-    with ProcessPoolExecutor(workers, mp_context=get_context("spawn")) as pool:
+    with worker_pool(workers) as pool:
         return [measure(p, designs, seed, pool, reference) for p in paths]
 
 

@@ -5,9 +5,7 @@ from __future__ import annotations
 import multiprocessing
 import re
 import sys
-from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
-from multiprocessing import get_context
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -20,6 +18,7 @@ from gymnasium.vector.utils import batch_space
 
 from ..config import Config, ConfigError, load_config, warn_unit_slips
 from ..design_space import DesignSpace, Draw
+from ..process_pool import worker_pool
 from ..reward import reward
 from ..simulation import simulate
 from .aerial_acrobat import Episode, episode_info, plan_episode, reset_info
@@ -203,7 +202,7 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         self._ended = np.zeros(self.num_envs, dtype=np.bool_)
         if not self.reduced and self.workers > 1:
             _check_spawn_guard(self.workers)
-            self._pool = ProcessPoolExecutor(min(self.workers, self.num_envs), mp_context=get_context(POOL_START_METHOD))
+            self._pool = worker_pool(min(self.workers, self.num_envs), POOL_START_METHOD)
 
     def _check_workers(self, workers) -> int:
         if workers is None:

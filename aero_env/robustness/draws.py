@@ -15,14 +15,13 @@ back in submission order, so the results do not depend on the number of workers.
 
 from __future__ import annotations
 
-import multiprocessing
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from typing import Callable, Sequence
 
 import numpy as np
 
 from ..config import Config, ConfigError
+from ..process_pool import worker_pool
 from .tolerances import Tol, built_values
 
 INVALID = "invalid_build"  # the outcome of a build the config (or the world builder) rejects
@@ -86,7 +85,7 @@ def run_builds(builds: Sequence[Build], simulator: Callable, workers: int = 1,
     jobs = [(simulator, b) for b in builds]
     if workers <= 1:
         return _collect(map(_run_one, jobs), len(jobs), progress)
-    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+    with worker_pool(workers) as pool:
         return _collect(pool.map(_run_one, jobs), len(jobs), progress)
 
 
