@@ -76,6 +76,7 @@ HP_SPECS: dict[str, dict[str, tuple]] = {
                 gradient_steps=(int, 1, 10**4, False)),
 }
 RUN_FILES = ("model.zip", "config.yaml", "run.json", "evaluations.npz", "learning_curve.png", "replay_buffer.pkl")
+RUN_CORE = ("run.json", "model.zip", "config.yaml")  # what makes a folder a run: resumed, started from, loaded
 EVAL_EPISODES = 10         # episodes per periodic evaluation
 EVAL_SEED_OFFSET = 10_000  # evaluation seeds start here, away from the training envs' seeds
 
@@ -188,9 +189,19 @@ def check_run_dir(out: str | Path, overwrite: bool = False, resume: bool = False
         check_output_dir(out, "--out", overwrite, "--overwrite to start the run in it again, or --resume to go on "
                                                   "with it")
         return
-    missing = [name for name in ("run.json", "model.zip", "config.yaml") if not (out / name).is_file()]
+    missing = missing_run_files(out)
     if missing:
         raise ConfigError(f"--resume: {str(out)!r} holds no run to go on with (no {', '.join(missing)})")
+
+
+def missing_run_files(folder: Path) -> list[str]:
+    """The files of :data:`RUN_CORE` that ``folder`` lacks (none: it holds a run ``aero-env train`` wrote)."""
+    return [name for name in RUN_CORE if not (folder / name).is_file()]
+
+
+def policy_sha256(folder: str | Path) -> str:
+    """The sha256 of a run's ``model.zip``: a finish records its start's, so a start trained again shows."""
+    return hashlib.sha256((Path(folder) / "model.zip").read_bytes()).hexdigest()
 
 
 def clear_run(out: Path) -> None:
@@ -240,7 +251,7 @@ def check_init_from(init_from: str | Path, cfg: Config, settings: "TrainSettings
         raise ConfigError(f"{where} with --algo {settings.algo}: allowed with --algo ppo only (SAC's entropy "
                           f"coefficient and replay buffer would not carry over)")
     folder = Path(init_from)
-    missing = [name for name in ("run.json", "model.zip", "config.yaml") if not (folder / name).is_file()]
+    missing = missing_run_files(folder)
     if missing:
         raise ConfigError(f"{where}: no {', '.join(missing)} there; give a folder aero-env train wrote")
     try:
@@ -270,7 +281,7 @@ def check_init_from(init_from: str | Path, cfg: Config, settings: "TrainSettings
     record = dict(dir=str(folder), fidelity=trained_on.sim.fidelity,
                   timesteps_done=int(before.get("timesteps_done", before.get("timesteps", 0))),
                   wall_time=before.get("wall_time"), seed=before.get("seed"),
-                  sha256=hashlib.sha256(policy.read_bytes()).hexdigest())
+                  sha256=policy_sha256(folder))
     if before.get("init_from"):
         record["init_from"] = before["init_from"]
     return record
@@ -538,9 +549,9 @@ def _jsonable(x):
 def check_run_files(run_dir: str | Path) -> Path:
     """``run_dir`` as a Path, or a one-line error if it is not a folder ``aero-env train`` wrote."""
     run_dir = Path(run_dir)
-    for name in ("run.json", "model.zip", "config.yaml"):
-        if not (run_dir / name).is_file():
-            raise ConfigError(f"{run_dir}: no {name}; expected the directory `aero-env train --out DIR` wrote")
+    missing = missing_run_files(run_dir)
+    if missing:
+        raise ConfigError(f"{run_dir}: no {missing[0]}; expected the directory `aero-env train --out DIR` wrote")
     return run_dir
 
 

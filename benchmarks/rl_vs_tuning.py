@@ -41,7 +41,6 @@ by noise of 1e-6, and when every context is built again by hand (a fresh draw of
 from __future__ import annotations
 
 import argparse
-import hashlib
 import json
 import re
 import sys
@@ -122,11 +121,13 @@ def rl_player(folder, seed: int | None = None) -> dict:
 def check_start_unchanged(method: str, seed: int, folder: Path, root: Path) -> None:
     """A finished pretraining is scored only beside the pretrained policy it started from: one trained again since
     would count another stage's episodes and time. Refused in one line, naming the command that mends it."""
+    from agents.rl import policy_sha256
+
     start = json.loads((folder / "run.json").read_text()).get("init_from")
     if not start or "init_from" not in RL_METHODS[method]:
         return
     shipped = root / RL_METHODS[method]["init_from"] / f"seed{seed}" / "model.zip"
-    if not shipped.is_file() or hashlib.sha256(shipped.read_bytes()).hexdigest() != start.get("sha256"):
+    if not shipped.is_file() or policy_sha256(shipped.parent) != start.get("sha256"):
         sys.exit(f"rl_vs_tuning: {folder} was finished from another {RL_METHODS[method]['init_from']} policy than "
                  f"{shipped.parent}'s; train it again: python benchmarks/rl_policies.py --methods {method} --seeds "
                  f"{seed}")
