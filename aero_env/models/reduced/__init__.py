@@ -40,16 +40,28 @@ step. The notch is two card faces (``design.notch_*``, as :mod:`aero_env.physics
 them, turning with the frame); with the hook in the corner it holds while F lies in the union of the
 faces' static friction cones (atan(mu_s) about each inward normal). F leaving it on one face's side,
 pressing on that face, starts a slide along the face with kinetic friction (a fourth coordinate s;
--mu_k·N·sign(s') with N solved together with the accelerations); the hook lets go when its centre
-passes the face's end (length minus the hook/card clearance) or when N turns tensile; a slide that
-stops sticks again. F pulling on both faces lets go at once. The tip turning in the notch faster than
+-mu_k·N·sign(s') with N solved together with the accelerations). Past the face's end (length minus the
+hook/card clearance) the hook rolls on over the card's rounded end, a circle of the clearance about the
+card's end with s its arc length, and lets go where N turns tensile, as pymunk's hook does 2-5 ms after
+the face's end; a slide that stops on the face sticks again, one that reaches the corner stops there in
+an inelastic impact (:func:`.impacts.corner_stop`: the momenta of the frame angle and the robot's two
+angles carry through it). A hook pulled off one face inside the notch crosses to the corner unless the
+corner's cones would let it go too. F pulling on both faces lets go at once. The tip turning in the notch faster than
 ``sim.slip_speed`` holds with mu_k, as the pymunk world's static/kinetic switch reads the slip at
 the contact. Impacts (:mod:`.impacts`) are inelastic, and every stop is one-sided in them: a frame
 on its rest stop that the arm's impact throws forward leaves the stop.
 
 **Flight and catch** (:mod:`.flight`, :mod:`.catch`): a ballistic centre of mass, the arm snapping
-about it, a geometric catch at the next notch's mouth (a hook that meets a face moving into the notch
-is guided to the seat; one that slides back out along it grazes) and an inelastic catch impulse.
+about it, and the hook's landing in the next notch. Past the notch's mouth the hook meets a card's
+flat side or the top of its rounded end (one that meets a card's end on its far side, or passes beside
+it, grazes); the landing is an inelastic impact along the card's normal, with the card's friction along
+it: the hook stops on the card where the impulse that stops it lies in the static cone, and slides on
+with kinetic friction otherwise (the impulse from the robot's and the frame's inertia at the hook; the
+frame stays on its rest stop where the impact pushes it there). The hooked motion then decides, as the
+pymunk runner does: a touch held ``sim.contact_hold`` that came within ``sim.catch_seat`` of the seat is
+a catch; a hook that leaves the card before that grazes, and the flight goes on, the frame it touched
+swinging with what the touch gave it. A hook that reaches the seat's depth beside the corner (that the
+faces would guide in) is set on the seat with an inelastic catch impulse at once.
 
 **Outcomes and times** follow :mod:`aero_env.physics.run` (its thresholds are restated in the
 phases): ``t_detach`` is when the hook leaves the handrail, ``t_catch`` when it enters the next
@@ -63,11 +75,14 @@ Stalls the runner only ends by its timeouts are ended early (``STALL_WINDOW``) a
 runner's time.
 
 **Numerics.** RK4 with a fixed step (``STEP``; ``sim.dt`` when the config's ``sim.model`` is
-``reduced``), events at step ends, release and catch times interpolated, float64 throughout.
+``reduced``), events at step ends, release and catch times interpolated, float64 throughout. A slide
+within reach of the corner or of its face's end is stepped at ``CAP_STEP`` and split where it meets them.
 Deterministic: a design gives bit-identical results alone or in any batch, on any number of threads.
 
 Not modelled: air drag (<0.1% in the paper and in the pymunk world), contact bounces and the hook
-riding a face's outside, the hook rolling in the corner, the ``hook: pin`` scene (that is
+riding a face's outside (a hook that lands on a card's end from outside and stays there, as pymunk's
+sometimes does, grazes here), the hook rolling in the corner, the slip of a turning tip setting the sense
+of a face's friction, the ``hook: pin`` scene (that is
 ``aero_env.models.two_link``). Agreement with the pymunk world and speed: ``aero-env bench accuracy``,
 ``aero-env bench throughput``, docs/fidelity.md.
 """

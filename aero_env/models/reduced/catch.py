@@ -14,7 +14,8 @@ import math
 from .jit import kernel
 
 from ... import units
-from .hooked_dynamics import com_velocity_from_hook, hook_from_com, hook_on_frame, solve_hooked, stick_eval, stick_step
+from .hooked_dynamics import (com_velocity_from_hook, hook_from_com, hook_on_frame, slide_eval, slide_step,
+                              solve_hooked, stick_eval, stick_step)
 from .layout import HOOKED, P, W, X
 from .transitions import start_swing
 
@@ -65,7 +66,7 @@ def catch(p, x, sw, t_c, t1, gap):
     lift = m * G * (j * p[P.rise] + p[P.seaty] - hy_old)
     kin = 0.5 * (A * q0 * q0 + Ja * q1 * q1 + Jt * q2 * q2) + D * q0 * q1 + E * q0 * q2 + F * q1 * q2
     scale = math.sqrt(min(max(1.0 - max(lift, 0.0) / max(kin, 1e-300), 0.0), 1.0))
-    x[X.th1], x[X.s] = p[P.rest], 0.0
+    x[X.th1], x[X.s], x[X.cap] = p[P.rest], 0.0, 0.0
     x[X.w1], x[X.ws], x[X.wa], x[X.wt] = q0 * scale, 0.0, q1 * scale, q2 * scale
     x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ubx], p[P.uby], p[P.nbx], p[P.nby]
     x[X.face], x[X.sig], x[X.slide], x[X.mu_sig] = 0.0, 1.0, 0.0, 0.0
@@ -79,3 +80,118 @@ def catch(p, x, sw, t_c, t1, gap):
     x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, hpx, hpy, hA, t1 - t_c, a0, a1, a2)
     x[X.th1] = max(x[X.th1], p[P.rest])
     start_swing(p, x, t_m)
+
+
+@kernel
+def hook_impulse(W00, W01, W11, vx, vy):
+    """The impulse (Px, Py) that stops a contact point whose relative velocity is (vx, vy): -W^-1·v."""
+    inv = 1.0 / (W00 * W11 - W01 * W01)
+    return -(W11 * vx - W01 * vy) * inv, -(W00 * vy - W01 * vx) * inv
+
+
+@kernel
+def land(p, x, sw, t_c, t1, face, s0):
+    """The hook met face ``face`` (0 back, 1 front) of frame fi + 1's notch at ``s0`` from its seat at t_c (x holds
+    the robot's angles and rates then): a touch, not yet a catch. The impact is inelastic along the face's normal;
+    along it the card's friction stops the hook if the impulse that does so lies in the static cone (mu_s), else
+    the hook slides on with kinetic friction (mu_k) in the sense it was moving. The frame starts at rest and stays
+    on its rest stop if pushed into it. Then the hooked motion to t1, the hook on the face at s0: sliding into the
+    corner, it seats (``hooked_phase.swing_checks`` makes the touch a catch as the runner does: held
+    ``sim.contact_hold``, within ``sim.catch_seat`` of the seat); leaving the face, it grazes
+    (``transitions.graze_off``)."""
+    j = int(x[X.fi]) + 1
+    x[X.fi] = j
+    x[X.carried] = 0.0
+    sw[W.t_catch, j] = t_c  # the first touch, as the runner records a catch
+    x[X.closest] = min(x[X.closest], s0)
+    m = p[P.m]
+    pa, pt, wa, wt = x[X.pa], x[X.pt], x[X.wa], x[X.wt]
+    tau = t_c - x[X.t0f]
+    vcx, vcy = x[X.vx0], x[X.vy0] - G * tau
+    # the hook's motion from the robot's: d(hook)/d(phi_a) and d(hook)/d(phi_t) (hook_from_com's derivatives)
+    gax, gay = p[P.Pa] * math.sin(pa) / m, -p[P.Pa] * math.cos(pa) / m
+    gtx, gty = p[P.Pt] * math.sin(pt) / m, -p[P.Pt] * math.cos(pt) / m
+    # the robot's inverse inertia at the hook: 1/m + G·K^-1·G^T (the arm on a stop: one rigid turn)
+    kc = p[P.Kat] * math.cos(pa - pt)
+    arm_held = x[X.lockA] > 0.0
+    if arm_held:
+        ir = 1.0 / (p[P.Ka] + 2.0 * kc + p[P.Kt])
+        # on its stop the robot turns as one body (the state inside the step may still hold the stop's impact)
+        wa = wt = ((p[P.Ka] + kc) * wa + (kc + p[P.Kt]) * wt) * ir
+        k00 = k01 = k11 = ir
+    else:
+        inv = 1.0 / (p[P.Ka] * p[P.Kt] - kc * kc)
+        k00, k01, k11 = p[P.Kt] * inv, -kc * inv, p[P.Ka] * inv
+    vx, vy = vcx + gax * wa + gtx * wt, vcy + gay * wa + gty * wt
+    R00 = 1.0 / m + gax * gax * k00 + 2.0 * gax * gtx * k01 + gtx * gtx * k11
+    R01 = gax * gay * k00 + (gax * gty + gtx * gay) * k01 + gtx * gty * k11
+    R11 = 1.0 / m + gay * gay * k00 + 2.0 * gay * gty * k01 + gty * gty * k11
+    # ... and the frame's at the contact (a rotation about its axis), unless its rest stop holds it
+    ux, uy = (p[P.rbux], p[P.rbuy]) if face == 0 else (p[P.rfux], p[P.rfuy])
+    nx, ny = (p[P.rbnx], p[P.rbny]) if face == 0 else (p[P.rfnx], p[P.rfny])
+    Hx, Hy = p[P.seatx] + s0 * ux, p[P.seaty] + s0 * uy
+    th, w0 = p[P.rest], 0.0
+    if x[X.nmov] > 0.0:  # a frame a graze kicked: where it has turned to, and its rate
+        th, w0 = x[X.nth], x[X.nw]
+        cd, sd = math.cos(th - p[P.rest]), math.sin(th - p[P.rest])
+        ux, uy, nx, ny = cd * ux - sd * uy, sd * ux + cd * uy, cd * nx - sd * ny, sd * nx + cd * ny
+        Hx, Hy = cd * Hx - sd * Hy, sd * Hx + cd * Hy
+    x[X.nmov] = 0.0
+    vx, vy = vx + w0 * Hy, vy - w0 * Hx  # relative to the frame's point there
+    iF = 1.0 / p[P.If]
+    held = False
+    Px, Py = hook_impulse(R00 + Hy * Hy * iF, R01 - Hx * Hy * iF, R11 + Hx * Hx * iF, vx, vy)
+    if th <= p[P.rest] and w0 <= 0.0 and Hx * Py - Hy * Px > 0.0:  # it would turn into its rest stop: it stays
+        held = True
+        Px, Py = hook_impulse(R00, R01, R11, vx, vy)
+    W00 = R00 + (0.0 if held else Hy * Hy * iF)
+    W01 = R01 - (0.0 if held else Hx * Hy * iF)
+    W11 = R11 + (0.0 if held else Hx * Hx * iF)
+    pn, pu = Px * nx + Py * ny, Px * ux + Py * uy
+    sliding, sig = False, 0.0
+    vn = vx * nx + vy * ny
+    if vn >= 0.0:  # not moving into the face (it met the face's line at the step's start): no impact
+        Px, Py = 0.0, 0.0
+    elif abs(pu) > p[P.mu_s] * pn:  # the impulse leaves the static cone: it slides, against kinetic friction
+        sig = -1.0 if pu > 0.0 else 1.0  # friction along +u stops a hook moving inward (-u)
+        dx_, dy_ = nx - sig * p[P.mu_k] * ux, ny - sig * p[P.mu_k] * uy
+        lam = -vn / (nx * (W00 * dx_ + W01 * dy_) + ny * (W01 * dx_ + W11 * dy_))
+        qx, qy = lam * dx_, lam * dy_
+        vrx, vry = vx + W00 * qx + W01 * qy, vy + W01 * qx + W11 * qy
+        if (vrx * ux + vry * uy) * sig > 0.0:  # still moving that way after the impact (else friction stopped it)
+            Px, Py, sliding = qx, qy, True
+    # the rates after the impulse
+    vcx, vcy = vcx + Px / m, vcy + Py / m
+    ga, gt = gax * Px + gay * Py, gtx * Px + gty * Py
+    wa, wt = wa + k00 * ga + k01 * gt, wt + k01 * ga + k11 * gt
+    w1 = 0.0 if held else w0 - (Hx * Py - Hy * Px) * iF
+    vx, vy = vcx + gax * wa + gtx * wt, vcy + gay * wa + gty * wt
+    ws = ((vx + w1 * Hy) * ux + (vy - w1 * Hx) * uy) if sliding else 0.0
+    # the hooked state: the hook on the face at s0
+    x[X.th1], x[X.s], x[X.w1], x[X.ws], x[X.wa], x[X.wt] = th, s0, w1, ws, wa, wt
+    if face == 0:
+        x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ubx], p[P.uby], p[P.nbx], p[P.nby]
+    else:
+        x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ufx], p[P.ufy], p[P.nfx], p[P.nfy]
+    x[X.face], x[X.cap] = float(face), 0.0
+    x[X.sig] = sig if sliding else 1.0
+    x[X.slide] = 1.0 if sliding else 0.0
+    x[X.mu_sig] = p[P.mu_k] * sig if sliding else 0.0
+    x[X.lock1] = x[X.lock1k] = 1.0 if held else 0.0
+    x[X.piv], x[X.tq0] = 0.0, 0.0
+    x[X.rec] = 0.0
+    x[X.touch], x[X.t_touch], x[X.touch_gap] = 1.0, t_c, s0
+    x[X.phase] = HOOKED
+    # the rest of the step, hooked
+    if sliding:
+        y = (x[X.th1], x[X.s], x[X.pa], x[X.pt], x[X.w1], x[X.ws], x[X.wa], x[X.wt])
+        a0, a1, a2, a3 = slide_eval(p, x, *y)[:4]
+        (x[X.th1], x[X.s], x[X.pa], x[X.pt],
+         x[X.w1], x[X.ws], x[X.wa], x[X.wt]) = slide_step(p, x, t1 - t_c, a0, a1, a2, a3)
+        x[X.s] = max(x[X.s], 0.0)
+    else:
+        hpx, hpy, hA = hook_on_frame(p, x)
+        a0, a1, a2 = stick_eval(p, x, hpx, hpy, hA, x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt])[:3]
+        x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, hpx, hpy, hA, t1 - t_c, a0, a1, a2)
+    x[X.th1] = max(x[X.th1], p[P.rest])
+    start_swing(p, x, t_c)  # (its stall test reads the frame's energy, its motion included)

@@ -23,3 +23,6 @@ DRY_FRICTION_STEP = 1.0  # the regularised torque's stiffness times the step, TÂ
 MOUTH_END_REACH = 1.0  # the catch window reaches this many hook/card clearances past each face's end
 ENERGY_BARRIER_MARGIN = 0.02  # of the swing's energy scale: the barrier test's safety margin (grid minima)
 BARRIER_GRID = 9  # points on the frame's first TURN_BACK_DEG above rest where the barrier test looks
+CAP_STEP = 5e-4  # s: a slide within reach of its face's end or of the corner is stepped at this (the pymunk world's
+# default step) for the rest of the step, and split where it meets them: the roll over the card's rounded end and
+# the release take 2-5 ms, and the corner stops a slide in an impact a 4 ms step would overshoot

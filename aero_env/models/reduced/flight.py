@@ -1,12 +1,13 @@
-"""The flight between frames: a ballistic centre of mass, the arm snapping about it, and the catch test.
+"""The flight between frames: a ballistic centre of mass, the arm snapping about it, and the landing test.
 
 The centre of mass is ballistic (closed form); arm and torso turn about it with the robot's angular
 momentum conserved and the leaf spring snapping the arm toward alpha_min (kinetic energy
-Ka·wa²/2 + Kt·wt²/2 + Kat·cos(phi_a - phi_t)·wa·wt; inelastic arm stops). The catch is geometric:
-the hook's centre crosses the mouth of the next notch downward with the arm snapped forward, then
-meets a face (or reaches the seat's depth): moving into the notch it is guided to the seat, a catch;
-still moving outward along the face after the impact's friction it slides back out, a graze
-(``seat_reached``). A transfer that is not caught ends as the runner ends it (the centre of mass at
+Ka·wa²/2 + Kt·wt²/2 + Kat·cos(phi_a - phi_t)·wa·wt; inelastic arm stops). The landing is found
+geometrically: the hook's centre crosses the mouth of the next notch downward with the arm snapped
+forward, then meets a card (``seat_reached``): :func:`.catch.land` takes the impact there and the hooked
+motion decides between a catch and a graze (or it reaches the seat's depth beside the corner: caught at
+once, :func:`.catch.catch`). A frame that a grazing touch set swinging keeps swinging alone
+(``free_frame_step``) and the hook is read in its coordinates. A transfer that is not caught ends as the runner ends it (the centre of mass at
 the floor, the flight timeout, or decided: the hook fallen below the next mouth) and is named as the
 runner's ``_classify_miss`` names it.
 """
@@ -18,9 +19,9 @@ import math
 from .jit import kernel
 
 from ... import units
-from .catch import catch
+from .catch import catch, land
 from .constants import NOTCH_EXIT_MARGIN
-from .hooked_dynamics import axle_friction, distance, hook_from_com, spring_energy, spring_torque
+from .hooked_dynamics import axle_friction, distance, hook_from_com, skewer_friction, spring_energy, spring_torque
 from .layout import (R_AHEAD, R_BEHIND, R_GRAZE, R_LOW, R_NEVER_DOWN, R_STIFF, R_WEAK, P, X)
 from .transitions import finish, parked_energy, track_energy
 
@@ -110,7 +111,30 @@ def arm_stop_in_flight(p, x, pa, pt, wa, wt):
     return pa, pt, wa, wt
 
 
-NO_CATCH, CAUGHT, GRAZED = 0, 1, 2  # seat_reached's verdicts
+NO_CATCH, CAUGHT, GRAZED, LANDED = 0, 1, 2, 3  # seat_reached's verdicts
+
+
+@kernel
+def free_frame_accel(p, th, w):
+    """theta1'' of a frame with no robot on it: its weights' moment and the skewer's friction."""
+    return (p[P.cfr] * math.cos(th) + p[P.m3gh] * math.sin(th) + skewer_friction(p, w)) / p[P.If]
+
+
+@kernel
+def free_frame_step(p, th, w, dt):
+    """One RK4 step of a frame swinging alone (a touch that grazed kicked it), its stops inelastic."""
+    h = 0.5 * dt
+    a0 = free_frame_accel(p, th, w)
+    a1 = free_frame_accel(p, th + h * w, w + h * a0)
+    a2 = free_frame_accel(p, th + h * (w + h * a0), w + h * a1)
+    a3 = free_frame_accel(p, th + dt * (w + h * a1), w + dt * a2)
+    th1 = th + dt * (w + dt * (a0 + a1 + a2) / 6.0)
+    w1 = w + dt * (a0 + 2.0 * a1 + 2.0 * a2 + a3) / 6.0
+    if th1 <= p[P.rest] and w1 <= 0.0:
+        th1, w1 = p[P.rest], 0.0
+    elif th1 >= p[P.stop] and w1 >= 0.0:
+        th1, w1 = p[P.stop], 0.0
+    return th1, w1
 
 
 @kernel
@@ -130,18 +154,18 @@ def cap_entry(ex, ey, r, dx0, dy0, dx1, dy1):
 
 
 @kernel
-def seat_reached(p, dx0, dy0, dx1, dy1, dt):
-    """Inside the next notch's mouth, the hook's centre moved from (dx0, dy0) to (dx1, dy1) (from the seat) in dt:
-    did it reach the seat? Returns (verdict, fraction of the step, distance from the seat there).
+def seat_reached(p, dx0, dy0, dx1, dy1):
+    """Inside the next notch's mouth, the hook's centre moved from (dx0, dy0) to (dx1, dy1) (from the seat) in a
+    step: did it meet the notch? Returns (verdict, fraction of the step, distance from the seat there, face, s).
 
     Each face is a card whose surface the hook's centre cannot come within the hook/card clearance of: a flat
-    side (the line from the seat along the face, up to the face's end) and a rounded end. Meeting the flat side,
-    the impact takes the hook's normal velocity and, by the card's kinetic friction, up to mu_k·|v_n| of its
-    velocity along the face: what is left moving outward along the face takes it back out (the runner's graze:
-    a touch that never seats); otherwise the faces guide it into the corner (the model then sets it on the seat).
-    Meeting the rounded end on its top (nearer the face's inward normal than its outward direction) it rests on
-    the card and is guided in; on its far side it slides off the card's end: a graze. Crossing the face's line
-    past its end it has passed the card: a graze. Reaching the seat's depth first, it lands in the corner."""
+    side (the line from the seat along the face, up to the face's end) and a rounded end. Meeting the flat side
+    it lands on that face at s along it from the seat (``LANDED``: :func:`.catch.land` takes the impact, and
+    the hooked motion decides whether it slides into the corner, a catch, or off the card, a graze). Meeting the
+    rounded end on its top (nearer the face's inward normal than its outward direction) it lands on the card's
+    end; on its far side it slides off the card's end: a graze. Crossing the face's line past its end it has
+    passed the card: a graze. Reaching the seat's depth first (beside the corner, that the faces would guide it
+    into), it is caught at once."""
     first, face, kind = 2.0, -1, 0  # kind: 0 the flat side, 1 the rounded end, 2 past the end
     for k in range(2):
         ux, uy = (p[P.rbux], p[P.rbuy]) if k == 0 else (p[P.rfux], p[P.rfuy])
@@ -165,30 +189,31 @@ def seat_reached(p, dx0, dy0, dx1, dy1, dt):
         if lam < first:
             first, face = lam, -2
     if face == -1:
-        return NO_CATCH, 0.0, 0.0
+        return NO_CATCH, 0.0, 0.0, 0, 0.0
     hx, hy = dx0 + first * (dx1 - dx0), dy0 + first * (dy1 - dy0)
     gap = distance(hx, hy)
     if face == -2:
-        return CAUGHT, first, gap
+        return CAUGHT, first, gap, 0, 0.0
+    if kind == 2:
+        return GRAZED, first, gap, face, 0.0
     ux, uy = (p[P.rbux], p[P.rbuy]) if face == 0 else (p[P.rfux], p[P.rfuy])
     nx, ny = (p[P.rbnx], p[P.rbny]) if face == 0 else (p[P.rfnx], p[P.rfny])
-    if kind == 2:
-        return GRAZED, first, gap
+    s_end = p[P.s_end_b] if face == 0 else p[P.s_end_f]
     if kind == 1:  # where on the rounded end: its normal there, from the end's centre to the hook's
-        s_end = p[P.s_end_b] if face == 0 else p[P.s_end_f]
         ox, oy = hx - (s_end * ux - p[P.clear] * nx), hy - (s_end * uy - p[P.clear] * ny)
-        return (CAUGHT if ox * nx + oy * ny >= ox * ux + oy * uy else GRAZED), first, gap
-    vx, vy = (dx1 - dx0) / dt, (dy1 - dy0) / dt
-    if vx * ux + vy * uy > p[P.mu_k] * max(-(vx * nx + vy * ny), 0.0):
-        return GRAZED, first, gap
-    return CAUGHT, first, gap
+        if ox * nx + oy * ny < ox * ux + oy * uy:
+            return GRAZED, first, gap, face, 0.0
+        return LANDED, first, gap, face, s_end
+    return LANDED, first, gap, face, min(max(hx * ux + hy * uy, 0.0), s_end)
 
 
 @kernel
 def flight_stage(p, x, out, sw, t, dt, detail, parked):
     """Advance a flying design from t to t + dt: the arm's motion, the hook's path, the catch or the miss."""
-    if x[X.t0f] > t:  # released at the end of this step's hooked part: it flies from the next step
+    if x[X.t0f] >= t + dt:  # released at the end of this step's hooked part: it flies from the next step
         return
+    if x[X.t0f] > t:  # released inside the step: it flies the rest of it
+        t, dt = x[X.t0f], t + dt - x[X.t0f]
     pa0, pt0, wa0, wt0 = x[X.pa], x[X.pt], x[X.wa], x[X.wt]
     k_arm = x[X.lockAk]
     pa, pt, wa, wt, lamA = flight_rk4(p, x[X.lockA] > 0.0, pa0, pt0, wa0, wt0, dt)
@@ -209,6 +234,13 @@ def flight_stage(p, x, out, sw, t, dt, detail, parked):
     fi = int(x[X.fi])
     ox, oy = (fi + 1) * p[P.pitch], (fi + 1) * p[P.rise]
     seat_x, seat_y = ox + p[P.seatx], oy + p[P.seaty]
+    if x[X.nmov] > 0.0:  # the next frame moves: read the hook in that frame's coordinates, set at rest
+        d0 = p[P.rest] - x[X.nth]
+        x[X.nth], x[X.nw] = free_frame_step(p, x[X.nth], x[X.nw], dt)
+        d1 = p[P.rest] - x[X.nth]
+        c0, s0, c1, s1 = math.cos(d0), math.sin(d0), math.cos(d1), math.sin(d1)
+        hx0, hy0 = ox + c0 * (hx0 - ox) - s0 * (hy0 - oy), oy + s0 * (hx0 - ox) + c0 * (hy0 - oy)
+        hx, hy = ox + c1 * (hx - ox) - s1 * (hy - oy), oy + s1 * (hx - ox) + c1 * (hy - oy)
     since = t1 - x[X.t_rel]
     x[X.closest] = min(x[X.closest], distance(hx - seat_x, hy - seat_y))
     if detail:
@@ -241,12 +273,17 @@ def flight_stage(p, x, out, sw, t, dt, detail, parked):
         x[X.t_mouth] = t + lam * dt
     in_notch = (was_in or entered) and not (leave and was_in)
     if in_notch:
-        verdict, lam_c, gap = seat_reached(p, hx0 - seat_x, hy0 - seat_y, hx - seat_x, hy - seat_y, dt)
-        if verdict == CAUGHT:  # the state there: arm and torso interpolated inside the step
+        verdict, lam_c, gap, face, along = seat_reached(p, hx0 - seat_x, hy0 - seat_y, hx - seat_x, hy - seat_y)
+        if verdict == CAUGHT or verdict == LANDED:  # the state there: arm and torso interpolated inside the step
             x[X.in_notch] = 1.0
             x[X.pa], x[X.pt] = pa0 + lam_c * (pa - pa0), pt0 + lam_c * (pt - pt0)
             x[X.wa], x[X.wt] = wa0 + lam_c * (wa - wa0), wt0 + lam_c * (wt - wt0)
-            catch(p, x, sw, t + lam_c * dt, t1, gap)
+            if verdict == CAUGHT and x[X.nmov] == 0.0:
+                catch(p, x, sw, t + lam_c * dt, t1, gap)
+            elif verdict == CAUGHT:
+                land(p, x, sw, t + lam_c * dt, t1, 0, 0.0)
+            else:
+                land(p, x, sw, t + lam_c * dt, t1, face, along)
             return
         if verdict == GRAZED:
             x[X.graze] = min(x[X.graze], gap)

@@ -68,11 +68,29 @@ def axle_friction(p, w_alpha):
 
 
 @kernel
+def hook_place(p, x, s):
+    """The hook's centre at s along its face (frame coordinates), its direction of motion there and the face's
+    inward normal there, and the path's curvature. Up to the face's end the path is the line seat + s·u; past
+    it the hook rolls over the card's rounded end, a circle of the hook/card clearance about the card's end,
+    with s its arc length (the hook leaves it when the normal force turns tensile, as pymunk's hook does 2-5 ms
+    after the face's end). ``x[X.cap]`` says which (slide_stage sets it at each step's start)."""
+    ux, uy, nx, ny = x[X.ux], x[X.uy], x[X.nx], x[X.ny]
+    s_end = p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
+    if x[X.cap] == 0.0:  # (which of the two a step is on is decided at its start: the path's curvature jumps)
+        return p[P.p0x] + s * ux, p[P.p0y] + s * uy, ux, uy, nx, ny, 0.0
+    r = p[P.clear]
+    psi = (s - s_end) / r
+    c, sn = math.cos(psi), math.sin(psi)
+    cx, cy = p[P.p0x] + s_end * ux - r * nx, p[P.p0y] + s_end * uy - r * ny  # the card's end
+    vx, vy = sn * ux + c * nx, sn * uy + c * ny  # from it to the hook: the normal there
+    return cx + r * vx, cy + r * vy, c * ux - sn * nx, c * uy - sn * ny, vx, vy, 1.0 / r
+
+
+@kernel
 def hook_on_frame(p, x):
-    """The hook's place in the frame's coordinates (seat + s·u) and the frame's inertia about its axis with the
-    robot's mass there: M00 of the hooked system."""
-    px = p[P.p0x] + x[X.s] * x[X.ux]
-    py = p[P.p0y] + x[X.s] * x[X.uy]
+    """The hook's place in the frame's coordinates (:func:`hook_place`) and the frame's inertia about its axis
+    with the robot's mass there: M00 of the hooked system."""
+    px, py = hook_place(p, x, x[X.s])[:2]
     return px, py, p[P.If] + p[P.m] * (px * px + py * py)
 
 
@@ -162,12 +180,12 @@ def slide_eval(p, x, th1, s, pa, pt, w1, ws, wa, wt):
     """Accelerations (theta1, s, phi_a, phi_t) of a design whose hook slides along a face, and the face's normal
     force N and the stops' loads. The s row carries the kinetic friction -mu_k·N·sig with N linear in the
     accelerations; s is eliminated and the remaining 3x3 solved by Cramer's rule (the stops as substitutions)."""
-    ux, uy, nx, ny, musig = x[X.ux], x[X.uy], x[X.nx], x[X.ny], x[X.mu_sig]
+    px, py, ux, uy, nx, ny, kap = hook_place(p, x, s)
+    musig = x[X.mu_sig]
     c1, s1 = math.cos(th1), math.sin(th1)
     ca, sa = math.cos(pa), math.sin(pa)
     ct, st = math.cos(pt), math.sin(pt)
     m, Pa, Pt, Pat = p[P.m], p[P.Pa], p[P.Pt], p[P.Pat]
-    px, py = p[P.p0x] + s * ux, p[P.p0y] + s * uy
     Hx, Hy = c1 * px - s1 * py, s1 * px + c1 * py
     uwx, uwy = c1 * ux - s1 * uy, s1 * ux + c1 * uy
     nwx, nwy = c1 * nx - s1 * ny, s1 * nx + c1 * ny
@@ -179,7 +197,9 @@ def slide_eval(p, x, th1, s, pa, pt, w1, ws, wa, wt):
     F = Pat * (ca * ct + sa * st)
     w1w1, wa2, wt2 = w1 * w1, wa * wa, wt * wt
     w1ws2 = 2.0 * w1 * ws
-    bHx, bHy = -Hx * w1w1 - uwy * w1ws2, -Hy * w1w1 + uwx * w1ws2  # the hook's centripetal + Coriolis terms
+    # the hook's centripetal + Coriolis terms, and on the rounded end its path's own turn toward the card's end
+    bHx = -Hx * w1w1 - uwy * w1ws2 - kap * ws * ws * nwx
+    bHy = -Hy * w1w1 + uwx * w1ws2 - kap * ws * ws * nwy
     Bx = m * bHx - Pa * ca * wa2 - Pt * ct * wt2
     By = m * bHy - Pa * sa * wa2 - Pt * st * wt2
     tau = spring_torque(p, pa - pt - p[P.alim], wa - wt)
@@ -325,12 +345,11 @@ def hooked_energy(p, x, oy):
     height."""
     th1, s, pa, pt = x[X.th1], x[X.s], x[X.pa], x[X.pt]
     w1, ws, wa, wt = x[X.w1], x[X.ws], x[X.wa], x[X.wt]
-    ux, uy = x[X.ux], x[X.uy]
+    px, py, ux, uy = hook_place(p, x, s)[:4]
     c1, s1 = math.cos(th1), math.sin(th1)
     ca, sa = math.cos(pa), math.sin(pa)
     ct, st = math.cos(pt), math.sin(pt)
     m, Pa, Pt = p[P.m], p[P.Pa], p[P.Pt]
-    px, py = p[P.p0x] + s * ux, p[P.p0y] + s * uy
     Hx, Hy = c1 * px - s1 * py, s1 * px + c1 * py
     uwx, uwy = c1 * ux - s1 * uy, s1 * ux + c1 * uy
     M00 = p[P.If] + m * (px * px + py * py)

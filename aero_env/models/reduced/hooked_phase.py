@@ -15,13 +15,15 @@ import math
 from .jit import kernel
 
 from ...physics.swing_rules import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG
-from .constants import STALL_WINDOW
-from .hooked_dynamics import (distance, friction_cone, hook_on_frame, hooked_energy, normal_sum, slide_eval,
+from .constants import CAP_STEP, S_CORNER, STALL_WINDOW
+from .hooked_dynamics import (distance, friction_cone, hook_on_frame, hook_place, hooked_energy, normal_sum,
+                              slide_eval,
                               slide_step, stick_eval, stick_step, theta2)
-from .impacts import impact
+from .impacts import corner_stop, impact
 from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_HELD_LONG, R_STOP_HOLD, R_TIMEOUT,
                      R_TURN_BACK, R_TURN_NEAR_STOP, P, W, X)
-from .transitions import CARRIED, carried, finish, parked_energy, release_hook, start_slide, track_energy
+from .transitions import (CARRIED, carried, finish, graze_off, parked_energy, release_hook, start_slide,
+                          track_energy)
 
 
 @kernel
@@ -36,6 +38,21 @@ def stops_let_go(x, lam1, lamA):
         x[X.lockA], x[X.lockAk] = 0.0, 0.0
         changed = True
     return changed
+
+
+@kernel
+def into_corner(p, x, Fx, Fy, c1, s1, turning):
+    """A hook on one face (s > 0) that the force (Fx, Fy) pulls off it: inside the notch it crosses to the corner
+    (a few mm, in a few ms), unless the force would pull it out of the corner too. Sets it there (an inelastic
+    stop, :func:`.impacts.corner_stop`) and returns True; False where it lets go of the handrail."""
+    if x[X.s] <= S_CORNER or x[X.s] >= (p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]):
+        return False  # in the corner already, or on the card's rounded end (it leaves the card there)
+    if friction_cone(p, 0.0, x[X.face], Fx, Fy, c1, s1, p[P.phi_k] if turning else p[P.phi_s])[0]:
+        return False
+    x[X.s], x[X.cap] = 0.0, 0.0
+    corner_stop(p, x)
+    x[X.slide], x[X.mu_sig], x[X.tq0] = 0.0, 0.0, 0.0
+    return True
 
 
 @kernel
@@ -57,7 +74,8 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
     piv = mu * p[P.r_hook] * normal_sum(p, x, Fx, Fy, c1, s1, mu)
     if release:
         x[X.piv] = piv
-        release_hook(p, x, out, sw, t, t)
+        if not into_corner(p, x, Fx, Fy, c1, s1, turning):
+            release_hook(p, x, out, sw, t, t)
         return False
     if slide:
         x[X.piv] = piv
@@ -73,7 +91,49 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
 
 
 @kernel
+def first_crossing(d, v, a):
+    """The first h > 0 at which v·h + a·h²/2 reaches d (inf if never)."""
+    best = math.inf
+    if a == 0.0:
+        if v != 0.0 and d / v > 0.0:
+            best = d / v
+        return best
+    disc = v * v + 2.0 * a * d
+    if disc < 0.0:
+        return best
+    r = math.sqrt(disc)
+    for h in ((-v - r) / a, (-v + r) / a):
+        if 0.0 < h < best:
+            best = h
+    return best
+
+
+@kernel
 def slide_stage(p, x, out, sw, t, dt, detail, parked):
+    """A sliding hook's step, split where it reaches the corner (the other face stops it there: a step past it
+    would carry the robot past the corner before the stop puts the hook back) or its face's end (the path turns
+    there onto the card's rounded end, whose curvature one RK4 step across the kink would integrate with an
+    O(dt) error). The split is where the slide's own quadratic (its rate and acceleration now) crosses."""
+    s_end = p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
+    s, ws = x[X.s], x[X.ws]
+    x[X.cap] = 1.0 if s > s_end else 0.0
+    h, h_end = 0.0, math.inf
+    if 0.0 < s < s_end:
+        a = slide_eval(p, x, x[X.th1], s, x[X.pa], x[X.pt], x[X.w1], ws, x[X.wa], x[X.wt])[1]
+        h_end = first_crossing(s_end - s, ws, a)
+        h = min(h_end, first_crossing(-s, ws, a))
+    if 0.0 < h < dt:
+        slide_part(p, x, out, sw, t, h, detail, parked)
+        if x[X.phase] != HOOKED or x[X.slide] == 0.0:  # (a stick for the rest of the step waits a step)
+            return
+        t, dt = t + h, dt - h
+        if h == h_end:  # on to the rounded end
+            x[X.cap] = 1.0
+    slide_part(p, x, out, sw, t, dt, detail, parked)
+
+
+@kernel
+def slide_part(p, x, out, sw, t, dt, detail, parked):
     """A sliding hook's step: kinetic friction along the face; a tensile face lets go."""
     y = (x[X.th1], x[X.s], x[X.pa], x[X.pt], x[X.w1], x[X.ws], x[X.wa], x[X.wt])
     a0, a1, a2, a3, N, lam1, lamA = slide_eval(p, x, *y)
@@ -83,7 +143,13 @@ def slide_stage(p, x, out, sw, t, dt, detail, parked):
     tq0 = p[P.r_hook] * x[X.mu_sig] * max(N, 0.0) * (1.0 - 2.0 * x[X.face])
     if N < 0.0:
         x[X.tq0] = tq0
-        release_hook(p, x, out, sw, t, t)
+        px, py, A = hook_on_frame(p, x)
+        Fx, Fy, _, _, c1, s1 = stick_eval(p, x, px, py, A, y[0], y[2], y[3], y[4], y[6], y[7])[3:]
+        turning = p[P.r_hook] * abs(x[X.wa] - x[X.w1]) > p[P.slip_speed]
+        if into_corner(p, x, Fx, Fy, c1, s1, turning):
+            stick_stage(p, x, out, sw, t, dt, False, detail, parked)
+        else:
+            release_hook(p, x, out, sw, t, t)
         return
     if stops_let_go(x, lam1, lamA):
         a0, a1, a2, a3 = slide_eval(p, x, *y)[:4]
@@ -110,15 +176,19 @@ def hooked_events(p, x, out, sw, t, dt, s_before, was_sliding, detail, parked):
     if was_sliding and x[X.slide] > 0.0:  # the slide's end (a slide an impact has just started waits a step)
         s, sig = x[X.s], x[X.sig]
         s_end = p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
-        if sig > 0.0 and s >= s_end:  # past the face's end: the hook lets go, at the interpolated time
-            frac = min(max((s_end - s_before) / ((s - s_before) if s != s_before else 1.0), 0.0), 1.0)
-            release_hook(p, x, out, sw, t1, t + frac * dt)
+        if s >= s_end + 0.5 * math.pi * p[P.clear]:  # round the card's end to its far side: it lets go there
+            release_hook(p, x, out, sw, t1, t1)
             return
-        back = s <= 0.0  # back in the corner, where the other face stops it
-        if back or x[X.ws] * sig <= 0.0:  # ... or the slide came to rest: it sticks
-            x[X.slide], x[X.mu_sig], x[X.ws] = 0.0, 0.0, 0.0
+        if s > s_end and x[X.ws] * sig <= 0.0:  # turned back on the rounded end: it slides back (no hold there)
+            x[X.sig], x[X.mu_sig] = -sig, -x[X.mu_sig]
+            swing_checks(p, x, out, sw, t1, detail, parked)
+            return
+        back = s <= 0.0  # back in the corner, where the other face stops it: an inelastic stop
         if back:
             x[X.s] = 0.0
+            corner_stop(p, x)
+        if back or x[X.ws] * sig <= 0.0:  # ... or the slide came to rest: it sticks
+            x[X.slide], x[X.mu_sig], x[X.ws], x[X.tq0], x[X.cap] = 0.0, 0.0, 0.0, 0.0, 0.0  # (no sliding moment)
     swing_checks(p, x, out, sw, t1, detail, parked)
 
 
@@ -139,6 +209,17 @@ def swing_checks(p, x, out, sw, t1, detail, parked):
         if not th2 <= sw[W.theta2_max, fi]:
             sw[W.theta2_max, fi] = th2
         track_energy(out, hooked_energy(p, x, fi * p[P.rise]) + parked_energy(parked, fi, False))
+    if x[X.touch] > 0.0:  # a touch, not yet a catch: the runner's Catching, which only watches the seat
+        gap = x[X.touch_gap] = min(x[X.touch_gap], x[X.s])
+        x[X.closest] = min(x[X.closest], gap)
+        if t1 - x[X.t_touch] >= p[P.contact_hold] and gap <= p[P.catch_seat]:
+            x[X.touch] = 0.0  # held that long, and seated at some time: a catch
+            sw[W.catch_seat, fi] = gap
+        elif t1 - x[X.t_rel] > p[P.flight_timeout]:  # the runner's flight timeout, still touching unseated
+            graze_off(p, x, sw, t1)
+            return
+        else:
+            return
     # the frame carried the robot through its lowest point: its catch is a traversal (the last frame's: the row)
     if th1 >= CARRIED and math.isnan(sw[W.t_carried, fi]) and carried(x, out, sw, t1):
         return
@@ -146,7 +227,7 @@ def swing_checks(p, x, out, sw, t1, detail, parked):
     # transfer onto it goes on, and the model holds the hook on its seat)
     if x[X.carried] > 0.0:
         c1, s1 = math.cos(th1), math.sin(th1)
-        px, py = p[P.p0x] + x[X.s] * x[X.ux], p[P.p0y] + x[X.s] * x[X.uy]
+        px, py = hook_place(p, x, x[X.s])[:2]
         hx = fi * p[P.pitch] + c1 * px - s1 * py
         hy = fi * p[P.rise] + s1 * px + c1 * py
         nx = (fi + 1) * p[P.pitch] + p[P.seatx]
@@ -184,9 +265,25 @@ def swing_checks(p, x, out, sw, t1, detail, parked):
 
 @kernel
 def hooked_step(p, x, out, sw, t, dt, hold, detail, parked):
-    """Advance a hooked design from t to t + dt (a sticking hook that starts to slide slides from t)."""
-    stepped = False
-    if x[X.slide] == 0.0:
-        stepped = stick_stage(p, x, out, sw, t, dt, hold, detail, parked)
-    if not stepped and x[X.phase] == HOOKED and x[X.slide] > 0.0:
-        slide_stage(p, x, out, sw, t, dt, detail, parked)
+    """Advance a hooked design from t to t + dt (a sticking hook that starts to slide slides from t). A slide that
+    may reach the face's end or the corner within the step is stepped at CAP_STEP: the roll over the card's end
+    lasts a few ms, and each event is met in a short step."""
+    n = 1
+    if x[X.slide] > 0.0:  # within reach of the face's end or of the corner (twice the slide's own reach: it
+        # accelerates) the step is split, so each event falls in a short step (slide_stage splits that one there)
+        s_end = p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
+        reach = 2.0 * abs(x[X.ws]) * dt
+        if x[X.s] + reach > s_end or x[X.s] - reach < 0.0:
+            n = int(math.ceil(dt / CAP_STEP - 1e-9))
+    h = dt / n
+    for i in range(n):
+        ti = t + i * h
+        stepped = False
+        if x[X.slide] == 0.0:
+            stepped = stick_stage(p, x, out, sw, ti, h, hold, detail, parked)
+            if not stepped and x[X.phase] == HOOKED and x[X.slide] == 0.0:  # it crossed into the corner: step there
+                stepped = stick_stage(p, x, out, sw, ti, h, hold, detail, parked)
+        if not stepped and x[X.phase] == HOOKED and x[X.slide] > 0.0:
+            slide_stage(p, x, out, sw, ti, h, detail, parked)
+        if x[X.phase] != HOOKED:
+            return

@@ -43,6 +43,8 @@ X = IntEnum("X", [
     "th1", "s", "pa", "pt", "w1", "ws", "wa", "wt",
     # the face the hook is on (0 back, 1 front), its direction and inward normal, the slide
     "face", "ux", "uy", "nx", "ny", "slide", "sig", "mu_sig",
+    # the hook on the card's rounded end past its face (1), or on the face's line (0): set per slide step
+    "cap",
     # stops: held (1) or free (0); which one (1 the lower: rest / alpha_min, 2 the upper: stop / alpha_max)
     "lock1", "lock1k", "lockA", "lockAk",
     # the tip's turning friction (its magnitude, and the sliding friction's moment)
@@ -56,6 +58,10 @@ X = IntEnum("X", [
     "t0f", "t_rel", "cx0", "cy0", "vx0", "vy0", "a_rel", "h_rel", "hx", "hy",
     # the runner's watch over a flight: the arm's snap, the hook crossing the seat's height, the mouth
     "t_snap", "t_cross", "dx_cross", "a_cross", "in_notch", "t_mouth", "graze",
+    # a touch of the next frame not yet a catch (the hook landed on a face): since when, its closest to the seat
+    "touch", "t_touch", "touch_gap",
+    # the next frame, kicked by a touch that grazed: moving (1) or at rest (0), its angle and rate
+    "nmov", "nth", "nw",
 ], start=0)
 
 O = IntEnum("O", [  # noqa: E741 (the run's Outputs)

@@ -13,7 +13,7 @@ from .jit import kernel
 from ... import units
 from ...physics.swing_rules import CARRIED_THETA1_DEG, TURN_BACK_DEG
 from .constants import BARRIER_GRID, ENERGY_BARRIER_MARGIN
-from .hooked_dynamics import com_velocity_from_hook, hook_from_com, hooked_energy
+from .hooked_dynamics import com_velocity_from_hook, hook_from_com, hook_place, hooked_energy
 from .layout import DONE, FLIGHT, R_COMPLETED, R_LET_GO, O, P, W, X
 
 G = units.GRAVITY
@@ -68,7 +68,7 @@ def parked_energy(parked, fi, left_at_stop):
 @kernel
 def start_slide(p, x, face, sig):
     """The hook starts sliding along a face (0 back, 1 front) in the sense sig (+1 outward)."""
-    x[X.face], x[X.sig], x[X.slide] = face, sig, 1.0
+    x[X.face], x[X.sig], x[X.slide], x[X.cap] = face, sig, 1.0, 0.0
     x[X.mu_sig] = p[P.mu_k] * sig
     if face > 0.5:
         x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ufx], p[P.ufy], p[P.nfx], p[P.nfy]
@@ -77,13 +77,13 @@ def start_slide(p, x, face, sig):
 
 
 @kernel
-def release_hook(p, x, out, sw, t_state, t_det):
-    """The hook lets go of frame fi: flight from the current state (at time t_state); detach time t_det."""
+def hook_flight_start(p, x, t_state):
+    """The flight's start from the hooked state at t_state: the centre of mass' place and velocity, the hook's
+    place (world)."""
     fi = int(x[X.fi])
     th1, pa, pt = x[X.th1], x[X.pa], x[X.pt]
     c1, s1 = math.cos(th1), math.sin(th1)
-    ux, uy = x[X.ux], x[X.uy]
-    px, py = p[P.p0x] + x[X.s] * ux, p[P.p0y] + x[X.s] * uy
+    px, py, ux, uy = hook_place(p, x, x[X.s])[:4]
     Hx, Hy = c1 * px - s1 * py, s1 * px + c1 * py
     uwx, uwy = c1 * ux - s1 * uy, s1 * ux + c1 * uy
     vHx, vHy = -Hy * x[X.w1] + uwx * x[X.ws], Hx * x[X.w1] + uwy * x[X.ws]
@@ -92,16 +92,48 @@ def release_hook(p, x, out, sw, t_state, t_det):
     ox, oy = fi * p[P.pitch] + Hx, fi * p[P.rise] + Hy  # the hook, world
     x[X.cx0], x[X.cy0] = ox - hx, oy - hy
     x[X.vx0], x[X.vy0] = vHx + dvx, vHy + dvy
-    x[X.t0f], x[X.t_rel] = t_state, t_det
-    alpha = pa - pt - math.pi
+    x[X.t0f] = t_state
+    x[X.hx], x[X.hy] = ox, oy
+    x[X.slide], x[X.mu_sig], x[X.ws], x[X.lock1], x[X.lock1k] = 0.0, 0.0, 0.0, 0.0, 0.0
+    x[X.phase] = FLIGHT
+    return oy
+
+
+@kernel
+def graze_off(p, x, sw, t_state):
+    """A touch that never became a catch ends (the hook left the face it landed on): the runner's graze. The
+    flight towards that frame goes on from the current state; the transfer's own records (its detach, the watch
+    over its flight) stay, and the frame's records of the touch are wiped."""
+    j = int(x[X.fi])
+    s_end = p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
+    x[X.graze] = min(x[X.graze], x[X.touch_gap])
+    x[X.nmov], x[X.nth], x[X.nw] = 1.0, x[X.th1], x[X.w1]  # the frame keeps the motion the touch gave it
+    x[X.in_notch] = 1.0 if x[X.s] < s_end else 0.0  # lifted off inside the notch, or slid off the card's end
+    hook_flight_start(p, x, t_state)
+    x[X.touch] = 0.0
+    x[X.fi], x[X.carried] = j - 1, 1.0
+    for k in range(sw.shape[0]):
+        sw[k, j] = math.nan
+
+
+@kernel
+def release_hook(p, x, out, sw, t_state, t_det):
+    """The hook lets go of frame fi: flight from the current state (at time t_state); detach time t_det. A touch
+    that was not yet a catch lets go as a graze (:func:`graze_off`)."""
+    if x[X.touch] > 0.0:
+        graze_off(p, x, sw, t_state)
+        return
+    fi = int(x[X.fi])
+    th1 = x[X.th1]
+    oy = hook_flight_start(p, x, t_state)
+    x[X.t_rel] = t_det
+    alpha = x[X.pa] - x[X.pt] - math.pi
     x[X.a_rel] = alpha
     x[X.h_rel] = oy - ((fi + 1) * p[P.rise] + p[P.seaty])
-    x[X.hx], x[X.hy] = ox, oy
     x[X.t_snap], x[X.t_cross] = math.nan, math.nan
     x[X.in_notch] = 0.0
     x[X.graze] = math.inf
-    x[X.slide], x[X.mu_sig], x[X.ws], x[X.lock1], x[X.lock1k] = 0.0, 0.0, 0.0, 0.0, 0.0
-    x[X.phase] = FLIGHT
+    x[X.nmov] = 0.0  # the next frame is at rest
     sw[W.t_detach, fi] = t_det
     sw[W.theta1_detach, fi] = math.degrees(th1)
     sw[W.alpha_detach, fi] = math.degrees(alpha)
