@@ -340,11 +340,11 @@ def theta2(p, pa, pt):
 
 
 @kernel
-def hooked_energy(p, x, oy):
-    """Mechanical energy (J) of the hooked frame and robot (kinetic, gravitational, spring); oy: the frame axis'
-    height."""
-    th1, s, pa, pt = x[X.th1], x[X.s], x[X.pa], x[X.pt]
-    w1, ws, wa, wt = x[X.w1], x[X.ws], x[X.wa], x[X.wt]
+def hooked_mass(p, x, s):
+    """The hooked system's mass matrix over (theta1, s, phi_a, phi_t) with the hook at s: its off-diagonal entries
+    M01, M02, M03, M12, M13, M23 and M00 (M11 = m, M22 = Ja, M33 = Jt), then the hook's place from the frame's axis
+    (world) and sin(theta1), cos(theta1)."""
+    th1, pa, pt = x[X.th1], x[X.pa], x[X.pt]
     px, py, ux, uy = hook_place(p, x, s)[:4]
     c1, s1 = math.cos(th1), math.sin(th1)
     ca, sa = math.cos(pa), math.sin(pa)
@@ -357,6 +357,18 @@ def hooked_energy(p, x, oy):
     M02, M03 = Pa * (Hx * ca + Hy * sa), Pt * (Hx * ct + Hy * st)
     M12, M13 = Pa * (uwy * ca - uwx * sa), Pt * (uwy * ct - uwx * st)
     M23 = p[P.Pat] * (ca * ct + sa * st)
+    return M00, M01, M02, M03, M12, M13, M23, Hx, Hy, s1, c1
+
+
+@kernel
+def hooked_energy(p, x, oy):
+    """Mechanical energy (J) of the hooked frame and robot (kinetic, gravitational, spring); oy: the frame axis'
+    height."""
+    pa, pt = x[X.pa], x[X.pt]
+    w1, ws, wa, wt = x[X.w1], x[X.ws], x[X.wa], x[X.wt]
+    M00, M01, M02, M03, M12, M13, M23, Hx, Hy, s1, c1 = hooked_mass(p, x, x[X.s])
+    m, Pa, Pt = p[P.m], p[P.Pa], p[P.Pt]
+    sa, st = math.sin(pa), math.sin(pt)
     kin = (0.5 * (M00 * w1 * w1 + m * ws * ws + p[P.Ja] * wa * wa + p[P.Jt] * wt * wt)
            + M01 * w1 * ws + M02 * w1 * wa + M03 * w1 * wt + M12 * ws * wa + M13 * ws * wt + M23 * wa * wt)
     pot = (p[P.frame_m] * G * oy - p[P.cfr] * s1 + p[P.m3gh] * c1

@@ -185,7 +185,7 @@ def hooked_events(p, x, out, sw, t, dt, s_before, was_sliding, detail, parked):
             return
         back = s <= 0.0  # back in the corner, where the other face stops it: an inelastic stop
         if back:
-            x[X.s] = 0.0
+            x[X.s], x[X.cap] = 0.0, 0.0
             corner_stop(p, x)
         if back or x[X.ws] * sig <= 0.0:  # ... or the slide came to rest: it sticks
             x[X.slide], x[X.mu_sig], x[X.ws], x[X.tq0], x[X.cap] = 0.0, 0.0, 0.0, 0.0, 0.0  # (no sliding moment)

@@ -16,7 +16,7 @@ from .jit import kernel
 
 from ... import units
 from .constants import S_CORNER
-from .hooked_dynamics import friction_cone, hook_place, solve_hooked
+from .hooked_dynamics import friction_cone, hook_place, hooked_mass, solve_hooked
 from .layout import P, X
 from .transitions import release_hook, start_slide
 
@@ -146,28 +146,15 @@ def corner_stop(p, x):
     impact that ends the slide. The corner's impulse acts only on the hook's place on the frame, so the momenta
     of the frame angle and the robot's two angles carry through it; the frame stays on its rest stop if the
     impact pushes it there. Sets the rates (ws = 0)."""
-    th1, pa, pt = x[X.th1], x[X.pa], x[X.pt]
     w1, ws, wa, wt = x[X.w1], x[X.ws], x[X.wa], x[X.wt]
-    ux, uy = x[X.ux], x[X.uy]
-    c1, s1 = math.cos(th1), math.sin(th1)
-    ca, sa = math.cos(pa), math.sin(pa)
-    ct, st = math.cos(pt), math.sin(pt)
-    m, Pa, Pt = p[P.m], p[P.Pa], p[P.Pt]
-    px, py = p[P.p0x], p[P.p0y]  # s = 0
-    Hx, Hy = c1 * px - s1 * py, s1 * px + c1 * py
-    uwx, uwy = c1 * ux - s1 * uy, s1 * ux + c1 * uy
-    A = p[P.If] + m * (px * px + py * py)
-    M01 = m * (px * uy - py * ux)
-    D, E = Pa * (Hx * ca + Hy * sa), Pt * (Hx * ct + Hy * st)
-    M12, M13 = Pa * (uwy * ca - uwx * sa), Pt * (uwy * ct - uwx * st)
-    F = p[P.Pat] * (ca * ct + sa * st)
+    A, M01, D, E, M12, M13, F = hooked_mass(p, x, 0.0)[:7]
     B, C = p[P.Ja], p[P.Jt]
     r0 = A * w1 + M01 * ws + D * wa + E * wt
     r1 = D * w1 + M12 * ws + B * wa + F * wt
     r2 = E * w1 + M13 * ws + F * wa + C * wt
     held = x[X.lock1] > 0.0
     q0, q1, q2 = solve_hooked(A, B, C, D, E, F, r0, r1, r2, held, x[X.lockA] > 0.0)
-    if not held and q0 < 0.0 and th1 <= p[P.rest]:  # pushed into the rest stop: it holds the frame
+    if not held and q0 < 0.0 and x[X.th1] <= p[P.rest]:  # pushed into the rest stop: it holds the frame
         x[X.lock1], x[X.lock1k] = 1.0, 1.0
         q0, q1, q2 = solve_hooked(A, B, C, D, E, F, r0, r1, r2, True, x[X.lockA] > 0.0)
     x[X.w1], x[X.ws], x[X.wa], x[X.wt] = q0, 0.0, q1, q2
