@@ -17,9 +17,26 @@ from ... import units
 from .hooked_dynamics import (com_velocity_from_hook, hook_from_com, hook_on_frame, slide_eval, slide_step,
                               solve_hooked, stick_eval, stick_step)
 from .layout import HOOKED, P, W, X
-from .transitions import start_swing
+from .transitions import set_face, start_swing
 
 G = units.GRAVITY
+
+
+@kernel
+def rest_of_step_hooked(p, x, dt):
+    """The hooked motion over the rest of the step a catch or a landing fell in (dt), from the state it set;
+    the frame no lower than its rest stop."""
+    if x[X.slide] > 0.0:
+        y = (x[X.th1], x[X.s], x[X.pa], x[X.pt], x[X.w1], x[X.ws], x[X.wa], x[X.wt])
+        a0, a1, a2, a3 = slide_eval(p, x, *y)[:4]
+        (x[X.th1], x[X.s], x[X.pa], x[X.pt],
+         x[X.w1], x[X.ws], x[X.wa], x[X.wt]) = slide_step(p, x, dt, a0, a1, a2, a3)
+        x[X.s] = max(x[X.s], 0.0)
+    else:
+        hpx, hpy, hA = hook_on_frame(p, x)
+        a0, a1, a2 = stick_eval(p, x, hpx, hpy, hA, x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt])[:3]
+        x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, hpx, hpy, hA, dt, a0, a1, a2)
+    x[X.th1] = max(x[X.th1], p[P.rest])
 
 
 @kernel
@@ -66,19 +83,15 @@ def catch(p, x, sw, t_c, t1, gap):
     lift = m * G * (j * p[P.rise] + p[P.seaty] - hy_old)
     kin = 0.5 * (A * q0 * q0 + Ja * q1 * q1 + Jt * q2 * q2) + D * q0 * q1 + E * q0 * q2 + F * q1 * q2
     scale = math.sqrt(min(max(1.0 - max(lift, 0.0) / max(kin, 1e-300), 0.0), 1.0))
-    x[X.th1], x[X.s], x[X.cap] = p[P.rest], 0.0, 0.0
+    x[X.th1], x[X.s] = p[P.rest], 0.0
     x[X.w1], x[X.ws], x[X.wa], x[X.wt] = q0 * scale, 0.0, q1 * scale, q2 * scale
-    x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ubx], p[P.uby], p[P.nbx], p[P.nby]
-    x[X.face], x[X.sig], x[X.slide], x[X.mu_sig] = 0.0, 1.0, 0.0, 0.0
+    set_face(p, x, 0.0)
+    x[X.sig], x[X.slide], x[X.mu_sig] = 1.0, 0.0, 0.0
     x[X.lock1] = x[X.lock1k] = 1.0 if pushed_back else 0.0
     x[X.piv], x[X.tq0] = 0.0, 0.0
     x[X.rec] = 0.0
     x[X.phase] = HOOKED
-    # the rest of the step, hooked
-    hpx, hpy, hA = hook_on_frame(p, x)
-    a0, a1, a2 = stick_eval(p, x, hpx, hpy, hA, x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt])[:3]
-    x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, hpx, hpy, hA, t1 - t_c, a0, a1, a2)
-    x[X.th1] = max(x[X.th1], p[P.rest])
+    rest_of_step_hooked(p, x, t1 - t_c)
     start_swing(p, x, t_m)
 
 
@@ -169,11 +182,7 @@ def land(p, x, sw, t_c, t1, face, s0):
     ws = ((vx + w1 * Hy) * ux + (vy - w1 * Hx) * uy) if sliding else 0.0
     # the hooked state: the hook on the face at s0
     x[X.th1], x[X.s], x[X.w1], x[X.ws], x[X.wa], x[X.wt] = th, s0, w1, ws, wa, wt
-    if face == 0:
-        x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ubx], p[P.uby], p[P.nbx], p[P.nby]
-    else:
-        x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ufx], p[P.ufy], p[P.nfx], p[P.nfy]
-    x[X.face], x[X.cap] = float(face), 0.0
+    set_face(p, x, float(face))
     x[X.sig] = sig if sliding else 1.0
     x[X.slide] = 1.0 if sliding else 0.0
     x[X.mu_sig] = p[P.mu_k] * sig if sliding else 0.0
@@ -182,16 +191,5 @@ def land(p, x, sw, t_c, t1, face, s0):
     x[X.rec] = 0.0
     x[X.touch], x[X.t_touch], x[X.touch_gap] = 1.0, t_c, s0
     x[X.phase] = HOOKED
-    # the rest of the step, hooked
-    if sliding:
-        y = (x[X.th1], x[X.s], x[X.pa], x[X.pt], x[X.w1], x[X.ws], x[X.wa], x[X.wt])
-        a0, a1, a2, a3 = slide_eval(p, x, *y)[:4]
-        (x[X.th1], x[X.s], x[X.pa], x[X.pt],
-         x[X.w1], x[X.ws], x[X.wa], x[X.wt]) = slide_step(p, x, t1 - t_c, a0, a1, a2, a3)
-        x[X.s] = max(x[X.s], 0.0)
-    else:
-        hpx, hpy, hA = hook_on_frame(p, x)
-        a0, a1, a2 = stick_eval(p, x, hpx, hpy, hA, x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt])[:3]
-        x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, hpx, hpy, hA, t1 - t_c, a0, a1, a2)
-    x[X.th1] = max(x[X.th1], p[P.rest])
+    rest_of_step_hooked(p, x, t1 - t_c)
     start_swing(p, x, t_c)  # (its stall test reads the frame's energy, its motion included)

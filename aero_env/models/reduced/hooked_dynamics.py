@@ -68,6 +68,12 @@ def axle_friction(p, w_alpha):
 
 
 @kernel
+def face_end(p, x):
+    """Where the hook's face ends (s, from the seat): past it the hook is on the card's rounded end."""
+    return p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
+
+
+@kernel
 def hook_place(p, x, s):
     """The hook's centre at s along its face (frame coordinates), its direction of motion there and the face's
     inward normal there, and the path's curvature. Up to the face's end the path is the line seat + s·u; past
@@ -75,7 +81,7 @@ def hook_place(p, x, s):
     with s its arc length (the hook leaves it when the normal force turns tensile, as pymunk's hook does 2-5 ms
     after the face's end). ``x[X.cap]`` says which (slide_stage sets it at each step's start)."""
     ux, uy, nx, ny = x[X.ux], x[X.uy], x[X.nx], x[X.ny]
-    s_end = p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
+    s_end = face_end(p, x)
     if x[X.cap] == 0.0:  # (which of the two a step is on is decided at its start: the path's curvature jumps)
         return p[P.p0x] + s * ux, p[P.p0y] + s * uy, ux, uy, nx, ny, 0.0
     r = p[P.clear]

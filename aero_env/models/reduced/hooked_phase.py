@@ -16,9 +16,8 @@ from .jit import kernel
 
 from ...physics.swing_rules import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG
 from .constants import CAP_STEP, S_CORNER, STALL_WINDOW
-from .hooked_dynamics import (distance, friction_cone, hook_on_frame, hook_place, hooked_energy, normal_sum,
-                              slide_eval,
-                              slide_step, stick_eval, stick_step, theta2)
+from .hooked_dynamics import (distance, face_end, friction_cone, hook_on_frame, hook_place, hooked_energy,
+                              normal_sum, slide_eval, slide_step, stick_eval, stick_step, theta2)
 from .impacts import corner_stop, impact
 from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_HELD_LONG, R_STOP_HOLD, R_TIMEOUT,
                      R_TURN_BACK, R_TURN_NEAR_STOP, P, W, X)
@@ -41,11 +40,18 @@ def stops_let_go(x, lam1, lamA):
 
 
 @kernel
+def tip_turning(p, wa, w1):
+    """Whether the hook's tip turns in the notch faster than sim.slip_speed (its surface slipping over the faces at
+    r·|w_arm - w_frame|): kinetic friction then, static below (the pymunk world's switch)."""
+    return p[P.r_hook] * abs(wa - w1) > p[P.slip_speed]
+
+
+@kernel
 def into_corner(p, x, Fx, Fy, c1, s1, turning):
     """A hook on one face (s > 0) that the force (Fx, Fy) pulls off it: inside the notch it crosses to the corner
     (a few mm, in a few ms), unless the force would pull it out of the corner too. Sets it there (an inelastic
     stop, :func:`.impacts.corner_stop`) and returns True; False where it lets go of the handrail."""
-    if x[X.s] <= S_CORNER or x[X.s] >= (p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]):
+    if x[X.s] <= S_CORNER or x[X.s] >= face_end(p, x):
         return False  # in the corner already, or on the card's rounded end (it leaves the card there)
     if friction_cone(p, 0.0, x[X.face], Fx, Fy, c1, s1, p[P.phi_k] if turning else p[P.phi_s])[0]:
         return False
@@ -64,7 +70,7 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
     # the tip turning in the notch: its surface slides over the faces at r·|w_arm - w_frame| (the pymunk switch
     # reads the slip at the contact point): kinetic friction above sim.slip_speed, static below, for the tip's
     # turning torque and for the cone that holds the hook alike
-    turning = p[P.r_hook] * abs(wa - w1) > p[P.slip_speed]
+    turning = tip_turning(p, wa, w1)
     mu = p[P.mu_k] if turning else p[P.mu_s]
     release, slide, face, sig = friction_cone(p, x[X.s], x[X.face], Fx, Fy, c1, s1,
                                               p[P.phi_k] if turning else p[P.phi_s])
@@ -83,10 +89,9 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
         return False
     if stops_let_go(x, lam1, lamA):  # the first stage again under the new constraints
         a0, a1, a2 = stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt)[:3]
-    s_before = x[X.s]
     x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, px, py, A, dt, a0, a1, a2)
     x[X.piv] = piv
-    hooked_events(p, x, out, sw, t, dt, s_before, False, detail, parked)
+    hooked_events(p, x, out, sw, t, dt, False, detail, parked)
     return True
 
 
@@ -114,7 +119,7 @@ def slide_stage(p, x, out, sw, t, dt, detail, parked):
     would carry the robot past the corner before the stop puts the hook back) or its face's end (the path turns
     there onto the card's rounded end, whose curvature one RK4 step across the kink would integrate with an
     O(dt) error). The split is where the slide's own quadratic (its rate and acceleration now) crosses."""
-    s_end = p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
+    s_end = face_end(p, x)
     s, ws = x[X.s], x[X.ws]
     x[X.cap] = 1.0 if s > s_end else 0.0
     h, h_end = 0.0, math.inf
@@ -145,7 +150,7 @@ def slide_part(p, x, out, sw, t, dt, detail, parked):
         x[X.tq0] = tq0
         px, py, A = hook_on_frame(p, x)
         Fx, Fy, _, _, c1, s1 = stick_eval(p, x, px, py, A, y[0], y[2], y[3], y[4], y[6], y[7])[3:]
-        turning = p[P.r_hook] * abs(x[X.wa] - x[X.w1]) > p[P.slip_speed]
+        turning = tip_turning(p, x[X.wa], x[X.w1])
         if into_corner(p, x, Fx, Fy, c1, s1, turning):
             stick_stage(p, x, out, sw, t, dt, False, detail, parked)
         else:
@@ -153,15 +158,14 @@ def slide_part(p, x, out, sw, t, dt, detail, parked):
         return
     if stops_let_go(x, lam1, lamA):
         a0, a1, a2, a3 = slide_eval(p, x, *y)[:4]
-    s_before = x[X.s]
     (x[X.th1], x[X.s], x[X.pa], x[X.pt],
      x[X.w1], x[X.ws], x[X.wa], x[X.wt]) = slide_step(p, x, dt, a0, a1, a2, a3)
     x[X.tq0] = tq0
-    hooked_events(p, x, out, sw, t, dt, s_before, True, detail, parked)
+    hooked_events(p, x, out, sw, t, dt, True, detail, parked)
 
 
 @kernel
-def hooked_events(p, x, out, sw, t, dt, s_before, was_sliding, detail, parked):
+def hooked_events(p, x, out, sw, t, dt, was_sliding, detail, parked):
     """After a hooked step to t + dt: impacts at the stops, the slide's end, the runner's swing checks."""
     t1 = t + dt
     th1, w1, k1 = x[X.th1], x[X.w1], x[X.lock1k]
@@ -175,7 +179,7 @@ def hooked_events(p, x, out, sw, t, dt, s_before, was_sliding, detail, parked):
         return
     if was_sliding and x[X.slide] > 0.0:  # the slide's end (a slide an impact has just started waits a step)
         s, sig = x[X.s], x[X.sig]
-        s_end = p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
+        s_end = face_end(p, x)
         if s >= s_end + 0.5 * math.pi * p[P.clear]:  # round the card's end to its far side: it lets go there
             release_hook(p, x, out, sw, t1, t1)
             return
@@ -271,7 +275,7 @@ def hooked_step(p, x, out, sw, t, dt, hold, detail, parked):
     n = 1
     if x[X.slide] > 0.0:  # within reach of the face's end or of the corner (twice the slide's own reach: it
         # accelerates) the step is split, so each event falls in a short step (slide_stage splits that one there)
-        s_end = p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
+        s_end = face_end(p, x)
         reach = 2.0 * abs(x[X.ws]) * dt
         if x[X.s] + reach > s_end or x[X.s] - reach < 0.0:
             n = int(math.ceil(dt / CAP_STEP - 1e-9))

@@ -20,7 +20,7 @@ from .hooked_dynamics import hooked_energy, theta2
 from .hooked_phase import hooked_step
 from .jit import allocating
 from .layout import DONE, FLIGHT, HOOKED, N_OUT, N_STATE, N_SWING, R_T_MAX, O, P, W, X
-from .transitions import finish, start_swing
+from .transitions import finish, set_face, start_swing
 
 G = units.GRAVITY
 
@@ -52,7 +52,7 @@ def start_state(p, x, out, sw):
     # (the runner's place_hanging)
     rot = p[P.theta2_start] - p[P.line_amax]
     x[X.pa], x[X.pt] = rot + p[P.amax] + 0.5 * math.pi, rot - 0.5 * math.pi
-    x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ubx], p[P.uby], p[P.nbx], p[P.nby]
+    set_face(p, x, 0.0)
     x[X.sig] = 1.0
     x[X.lockA], x[X.lockAk] = 1.0, 2.0  # against the alpha_max stop
     x[X.lock1], x[X.lock1k] = 1.0, 1.0  # on its rest stop (the first step lifts it if it can)

@@ -13,7 +13,7 @@ from .jit import kernel
 from ... import units
 from ...physics.swing_rules import CARRIED_THETA1_DEG, TURN_BACK_DEG
 from .constants import BARRIER_GRID, ENERGY_BARRIER_MARGIN
-from .hooked_dynamics import com_velocity_from_hook, hook_from_com, hook_place, hooked_energy
+from .hooked_dynamics import com_velocity_from_hook, face_end, hook_from_com, hook_place, hooked_energy
 from .layout import DONE, FLIGHT, R_COMPLETED, R_LET_GO, O, P, W, X
 
 G = units.GRAVITY
@@ -66,14 +66,21 @@ def parked_energy(parked, fi, left_at_stop):
 
 
 @kernel
-def start_slide(p, x, face, sig):
-    """The hook starts sliding along a face (0 back, 1 front) in the sense sig (+1 outward)."""
-    x[X.face], x[X.sig], x[X.slide], x[X.cap] = face, sig, 1.0, 0.0
-    x[X.mu_sig] = p[P.mu_k] * sig
+def set_face(p, x, face):
+    """The hook on a face (0 back, 1 front), on its flat side: its direction and inward normal (frame-local)."""
+    x[X.face], x[X.cap] = face, 0.0
     if face > 0.5:
         x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ufx], p[P.ufy], p[P.nfx], p[P.nfy]
     else:
         x[X.ux], x[X.uy], x[X.nx], x[X.ny] = p[P.ubx], p[P.uby], p[P.nbx], p[P.nby]
+
+
+@kernel
+def start_slide(p, x, face, sig):
+    """The hook starts sliding along a face (0 back, 1 front) in the sense sig (+1 outward)."""
+    set_face(p, x, face)
+    x[X.sig], x[X.slide] = sig, 1.0
+    x[X.mu_sig] = p[P.mu_k] * sig
 
 
 @kernel
@@ -105,7 +112,7 @@ def graze_off(p, x, sw, t_state):
     flight towards that frame goes on from the current state; the transfer's own records (its detach, the watch
     over its flight) stay, and the frame's records of the touch are wiped."""
     j = int(x[X.fi])
-    s_end = p[P.s_end_f] if x[X.face] > 0.5 else p[P.s_end_b]
+    s_end = face_end(p, x)
     x[X.graze] = min(x[X.graze], x[X.touch_gap])
     x[X.nmov], x[X.nth], x[X.nw] = 1.0, x[X.th1], x[X.w1]  # the frame keeps the motion the touch gave it
     x[X.in_notch] = 1.0 if x[X.s] < s_end else 0.0  # lifted off inside the notch, or slid off the card's end
