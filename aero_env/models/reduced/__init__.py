@@ -49,15 +49,20 @@ angles carry through it). A hook pulled off one face inside the notch crosses to
 corner's cones would let it go too. F pulling on both faces lets go at once. The tip turning in the notch faster than
 ``sim.slip_speed`` holds with mu_k, as the pymunk world's static/kinetic switch reads the slip at
 the contact. Impacts (:mod:`.impacts`) are inelastic, and every stop is one-sided in them: a frame
-on its rest stop that the arm's impact throws forward leaves the stop.
+on its rest stop that the arm's impact throws forward leaves the stop. A stop that holds a joint at rest
+lets go only once the pull on it exceeds the joint's dry friction (the skewer's ``pivot_friction``, the
+axle's ``axle_friction``): the pymunk world's capped motors hold a joint still there, where the
+regularised friction (``DRY_FRICTION_RATE``) would let it creep off the stop.
 
 **Flight and catch** (:mod:`.flight`, :mod:`.catch`): a ballistic centre of mass, the arm snapping
-about it, and the hook's landing in the next notch. Past the notch's mouth the hook meets a card's
-flat side or the top of its rounded end (one that meets a card's end on its far side, or passes beside
-it, grazes); the landing is an inelastic impact along the card's normal, with the card's friction along
-it: the hook stops on the card where the impulse that stops it lies in the static cone, and slides on
-with kinetic friction otherwise (the impulse from the robot's and the frame's inertia at the hook; the
-frame stays on its rest stop where the impact pushes it there). The hooked motion then decides, as the
+about it (a step in which it reaches its stop is split there), and the hook's landing in the next
+notch. Past the notch's mouth the hook meets a card's flat side or the top of its rounded end (one that
+meets a card's end on its far side, or passes beside it, grazes); the landing is an inelastic impact
+along the card's normal there (on the rounded end, the normal of the end's circle at the hook), with the
+card's friction along it: the hook stops on the card where the impulse that stops it lies in the static
+cone, and slides on with kinetic friction otherwise (the impulse from the robot's and the frame's
+inertia at the hook, the arm as it is at that instant; a stop, the frame's rest stop or the arm's,
+holds only where the impulse presses its body into it, so a landing may lift the arm off its stop). The hooked motion then decides, as the
 pymunk runner does: a touch held ``sim.contact_hold`` that came within ``sim.catch_seat`` of the seat is
 a catch; a hook that leaves the card before that grazes, and the flight goes on, the frame it touched
 swinging with what the touch gave it. A hook that reaches the seat's depth beside the corner (that the

@@ -103,6 +103,30 @@ def hook_impulse(W00, W01, W11, vx, vy):
 
 
 @kernel
+def landing_impulse(p, W00, W01, W11, vx, vy, ux, uy, nx, ny):
+    """The landing's impulse (Px, Py) at a contact of inverse inertia W whose relative velocity is (vx, vy), on a
+    face along (ux, uy) with normal (nx, ny): inelastic along the normal; along the face the card's friction stops
+    the hook if the impulse that does so lies in the static cone (mu_s), else the hook slides on against kinetic
+    friction (mu_k) in the sense it was moving. Returns (Px, Py, sliding, the friction's sense)."""
+    vn = vx * nx + vy * ny
+    if vn >= 0.0:  # not moving into the face (it met the face's line at the step's start): no impact
+        return 0.0, 0.0, False, 0.0
+    Px, Py = hook_impulse(W00, W01, W11, vx, vy)
+    pn, pu = Px * nx + Py * ny, Px * ux + Py * uy
+    if abs(pu) <= p[P.mu_s] * pn:
+        return Px, Py, False, 0.0
+    # the impulse leaves the static cone: it slides, against kinetic friction
+    sig = -1.0 if pu > 0.0 else 1.0  # friction along +u stops a hook moving inward (-u)
+    dx_, dy_ = nx - sig * p[P.mu_k] * ux, ny - sig * p[P.mu_k] * uy
+    lam = -vn / (nx * (W00 * dx_ + W01 * dy_) + ny * (W01 * dx_ + W11 * dy_))
+    qx, qy = lam * dx_, lam * dy_
+    vrx, vry = vx + W00 * qx + W01 * qy, vy + W01 * qx + W11 * qy
+    if (vrx * ux + vry * uy) * sig > 0.0:  # still moving that way after the impact
+        return qx, qy, True, sig
+    return Px, Py, False, 0.0  # friction stopped it
+
+
+@kernel
 def land(p, x, sw, t_c, t1, face, s0):
     """The hook met face ``face`` (0 back, 1 front) of frame fi + 1's notch at ``s0`` from its seat at t_c (x holds
     the robot's angles and rates then): a touch, not yet a catch. The impact is inelastic along the face's normal;
@@ -124,25 +148,24 @@ def land(p, x, sw, t_c, t1, face, s0):
     # the hook's motion from the robot's: d(hook)/d(phi_a) and d(hook)/d(phi_t) (hook_from_com's derivatives)
     gax, gay = p[P.Pa] * math.sin(pa) / m, -p[P.Pa] * math.cos(pa) / m
     gtx, gty = p[P.Pt] * math.sin(pt) / m, -p[P.Pt] * math.cos(pt) / m
-    # the robot's inverse inertia at the hook: 1/m + G·K^-1·G^T (the arm on a stop: one rigid turn)
     kc = p[P.Kat] * math.cos(pa - pt)
-    arm_held = x[X.lockA] > 0.0
-    if arm_held:
-        ir = 1.0 / (p[P.Ka] + 2.0 * kc + p[P.Kt])
-        # on its stop the robot turns as one body (the state inside the step may still hold the stop's impact)
-        wa = wt = ((p[P.Ka] + kc) * wa + (kc + p[P.Kt]) * wt) * ir
-        k00 = k01 = k11 = ir
-    else:
-        inv = 1.0 / (p[P.Ka] * p[P.Kt] - kc * kc)
-        k00, k01, k11 = p[P.Kt] * inv, -kc * inv, p[P.Ka] * inv
+    on_stop = x[X.lockA] > 0.0
+    if on_stop:  # on its stop the robot turns as one body (the state inside the step may still hold the stop's impact)
+        wa = wt = ((p[P.Ka] + kc) * wa + (kc + p[P.Kt]) * wt) / (p[P.Ka] + 2.0 * kc + p[P.Kt])
     vx, vy = vcx + gax * wa + gtx * wt, vcy + gay * wa + gty * wt
-    R00 = 1.0 / m + gax * gax * k00 + 2.0 * gax * gtx * k01 + gtx * gtx * k11
-    R01 = gax * gay * k00 + (gax * gty + gtx * gay) * k01 + gtx * gty * k11
-    R11 = 1.0 / m + gay * gay * k00 + 2.0 * gay * gty * k01 + gty * gty * k11
-    # ... and the frame's at the contact (a rotation about its axis), unless its rest stop holds it
+    # where on the card: the face's direction and inward normal there, and the hook's centre from the frame's axis
     ux, uy = (p[P.rbux], p[P.rbuy]) if face == 0 else (p[P.rfux], p[P.rfuy])
     nx, ny = (p[P.rbnx], p[P.rbny]) if face == 0 else (p[P.rfnx], p[P.rfny])
-    Hx, Hy = p[P.seatx] + s0 * ux, p[P.seaty] + s0 * uy
+    s_end = p[P.s_end_b] if face == 0 else p[P.s_end_f]
+    on_end = s0 > s_end
+    if on_end:  # on the card's rounded end: its normal there turned psi from the face's toward the face's direction
+        r, psi = p[P.clear], (s0 - s_end) / p[P.clear]
+        c, sn = math.cos(psi), math.sin(psi)
+        ex, ey = p[P.seatx] + s_end * ux - r * nx, p[P.seaty] + s_end * uy - r * ny  # the card's end
+        ux, uy, nx, ny = c * ux - sn * nx, c * uy - sn * ny, sn * ux + c * nx, sn * uy + c * ny
+        Hx, Hy = ex + r * nx, ey + r * ny
+    else:
+        Hx, Hy = p[P.seatx] + s0 * ux, p[P.seaty] + s0 * uy
     th, w0 = p[P.rest], 0.0
     if x[X.nmov] > 0.0:  # a frame a graze kicked: where it has turned to, and its rate
         th, w0 = x[X.nth], x[X.nw]
@@ -152,41 +175,45 @@ def land(p, x, sw, t_c, t1, face, s0):
     x[X.nmov] = 0.0
     vx, vy = vx + w0 * Hy, vy - w0 * Hx  # relative to the frame's point there
     iF = 1.0 / p[P.If]
-    held = False
-    Px, Py = hook_impulse(R00 + Hy * Hy * iF, R01 - Hx * Hy * iF, R11 + Hx * Hx * iF, vx, vy)
-    if th <= p[P.rest] and w0 <= 0.0 and Hx * Py - Hy * Px > 0.0:  # it would turn into its rest stop: it stays
-        held = True
-        Px, Py = hook_impulse(R00, R01, R11, vx, vy)
-    W00 = R00 + (0.0 if held else Hy * Hy * iF)
-    W01 = R01 - (0.0 if held else Hx * Hy * iF)
-    W11 = R11 + (0.0 if held else Hx * Hx * iF)
-    pn, pu = Px * nx + Py * ny, Px * ux + Py * uy
-    sliding, sig = False, 0.0
-    vn = vx * nx + vy * ny
-    if vn >= 0.0:  # not moving into the face (it met the face's line at the step's start): no impact
-        Px, Py = 0.0, 0.0
-    elif abs(pu) > p[P.mu_s] * pn:  # the impulse leaves the static cone: it slides, against kinetic friction
-        sig = -1.0 if pu > 0.0 else 1.0  # friction along +u stops a hook moving inward (-u)
-        dx_, dy_ = nx - sig * p[P.mu_k] * ux, ny - sig * p[P.mu_k] * uy
-        lam = -vn / (nx * (W00 * dx_ + W01 * dy_) + ny * (W01 * dx_ + W11 * dy_))
-        qx, qy = lam * dx_, lam * dy_
-        vrx, vry = vx + W00 * qx + W01 * qy, vy + W01 * qx + W11 * qy
-        if (vrx * ux + vry * uy) * sig > 0.0:  # still moving that way after the impact (else friction stopped it)
-            Px, Py, sliding = qx, qy, True
+    # The impact with the frame and the arm free; a stop whose body the impulse would turn into it (the frame at
+    # rest on its rest stop, the arm on its stop) holds, and the impact is taken again with that body held: the
+    # stops push, never pull, so the landing may lift the arm off its stop as it does in the pymunk world.
+    frame_held, arm_held = False, False
+    into_arm = 1.0 if x[X.lockAk] == 2.0 else -1.0  # the sense of alpha that presses the arm into its stop
+    for _ in range(3):
+        if arm_held:  # the robot's inverse inertia at the hook: 1/m + G·K^-1·G^T (held: one rigid turn)
+            k00 = k01 = k11 = 1.0 / (p[P.Ka] + 2.0 * kc + p[P.Kt])
+        else:
+            inv = 1.0 / (p[P.Ka] * p[P.Kt] - kc * kc)
+            k00, k01, k11 = p[P.Kt] * inv, -kc * inv, p[P.Ka] * inv
+        W00 = 1.0 / m + gax * gax * k00 + 2.0 * gax * gtx * k01 + gtx * gtx * k11
+        W01 = gax * gay * k00 + (gax * gty + gtx * gay) * k01 + gtx * gty * k11
+        W11 = 1.0 / m + gay * gay * k00 + 2.0 * gay * gty * k01 + gty * gty * k11
+        if not frame_held:  # ... and the frame's at the contact (a rotation about its axis)
+            W00, W01, W11 = W00 + Hy * Hy * iF, W01 - Hx * Hy * iF, W11 + Hx * Hx * iF
+        Px, Py, sliding, sig = landing_impulse(p, W00, W01, W11, vx, vy, ux, uy, nx, ny)
+        ga, gt = gax * Px + gay * Py, gtx * Px + gty * Py
+        press_frame = not frame_held and th <= p[P.rest] and w0 <= 0.0 and Hx * Py - Hy * Px > 0.0
+        press_arm = on_stop and not arm_held and ((k00 - k01) * ga + (k01 - k11) * gt) * into_arm > 0.0
+        if not (press_frame or press_arm):
+            break
+        frame_held, arm_held = frame_held or press_frame, arm_held or press_arm
     # the rates after the impulse
     vcx, vcy = vcx + Px / m, vcy + Py / m
-    ga, gt = gax * Px + gay * Py, gtx * Px + gty * Py
     wa, wt = wa + k00 * ga + k01 * gt, wt + k01 * ga + k11 * gt
-    w1 = 0.0 if held else w0 - (Hx * Py - Hy * Px) * iF
+    w1 = 0.0 if frame_held else w0 - (Hx * Py - Hy * Px) * iF
     vx, vy = vcx + gax * wa + gtx * wt, vcy + gay * wa + gty * wt
     ws = ((vx + w1 * Hy) * ux + (vy - w1 * Hx) * uy) if sliding else 0.0
+    if on_stop and not arm_held:  # lifted off its stop
+        x[X.lockA], x[X.lockAk] = 0.0, 0.0
     # the hooked state: the hook on the face at s0
     x[X.th1], x[X.s], x[X.w1], x[X.ws], x[X.wa], x[X.wt] = th, s0, w1, ws, wa, wt
     set_face(p, x, float(face))
+    x[X.cap] = 1.0 if on_end else 0.0
     x[X.sig] = sig if sliding else 1.0
     x[X.slide] = 1.0 if sliding else 0.0
     x[X.mu_sig] = p[P.mu_k] * sig if sliding else 0.0
-    x[X.lock1] = x[X.lock1k] = 1.0 if held else 0.0
+    x[X.lock1] = x[X.lock1k] = 1.0 if frame_held else 0.0
     x[X.piv], x[X.tq0] = 0.0, 0.0
     x[X.rec] = 0.0
     x[X.touch], x[X.t_touch], x[X.touch_gap] = 1.0, t_c, s0

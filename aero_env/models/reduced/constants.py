@@ -16,7 +16,8 @@ DRY_FRICTION_RATE = 0.05  # rad/s: the skewer's (pivot_friction) and the axle's 
 # phase (the frame's and the arm's stops already are) for a speed the swing crosses in one or two steps.
 # 0.05 rad/s is ~1% of the swing's rates (3 rad/s frame, tens of rad/s arm snap), so the torque is the full Coulomb
 # torque wherever it matters; a frame whose other torques stay below T creeps at rate·(torque / T) <= 0.05 rad/s
-# instead of standing still (pymunk's capped motor holds it to the solver's slop).
+# instead of standing still (pymunk's capped motor holds it to the solver's slop). On a stop the hold is exact: a
+# stop lets its joint go only once the pull on it exceeds the friction (hooked_dynamics.stop_lets_go).
 DRY_FRICTION_STEP = 1.0  # the regularised torque's stiffness times the step, T·dt/(I·rate), is kept at most this
 # (RK4 is stable to 2.8): a design whose T·dt/(I·DRY_FRICTION_RATE) exceeds it gets a larger rate (I: the smallest
 # inertia the coordinate can have, the frame alone for the skewer, the free robot's alpha for the axle)

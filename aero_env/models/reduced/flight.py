@@ -21,8 +21,9 @@ from .jit import kernel
 from ... import units
 from .catch import catch, land
 from .constants import NOTCH_EXIT_MARGIN
-from .hooked_dynamics import axle_friction, distance, hook_from_com, skewer_friction, spring_energy, spring_torque
-from .layout import (R_AHEAD, R_BEHIND, R_GRAZE, R_LOW, R_NEVER_DOWN, R_STIFF, R_WEAK, P, X)
+from .hooked_dynamics import (axle_friction, distance, first_crossing, hook_from_com, skewer_friction, spring_energy,
+                              spring_torque, stop_lets_go)
+from .layout import (FLIGHT, R_AHEAD, R_BEHIND, R_GRAZE, R_LOW, R_NEVER_DOWN, R_STIFF, R_WEAK, P, X)
 from .transitions import finish, parked_energy, track_energy
 
 G = units.GRAVITY
@@ -94,21 +95,47 @@ def classify_miss(p, x, out, t_end):
 
 
 @kernel
-def arm_stop_in_flight(p, x, pa, pt, wa, wt):
-    """The arm past a stop in flight: an inelastic impact about the centre of mass. Returns the new state."""
+def arm_stop_in_flight(p, x, pa, pt, wa, wt, force):
+    """The arm past a stop in flight (or, with ``force``, at one and moving into it): an inelastic impact about
+    the centre of mass. Returns the new state."""
     alpha = pa - pt - math.pi
-    if x[X.lockA] != 0.0 or (p[P.amin] <= alpha <= p[P.amax]):
+    if x[X.lockA] != 0.0:
         return pa, pt, wa, wt
+    if force:
+        lim = p[P.amax] if alpha > 0.5 * (p[P.amin] + p[P.amax]) else p[P.amin]
+    elif p[P.amin] <= alpha <= p[P.amax]:
+        return pa, pt, wa, wt
+    else:
+        lim = p[P.amax] if alpha > p[P.amax] else p[P.amin]
     a, b, cc = p[P.Ka], p[P.Kat] * math.cos(pa - pt), p[P.Kt]
-    lim = p[P.amax] if alpha > p[P.amax] else p[P.amin]
     err, da = alpha - lim, wa - wt
     w = 1.0 / (a + 2.0 * b + cc)
     xa, xt = (cc + b) * w, -(a + b) * w  # K^-1 J^T / (J K^-1 J^T), J = (1, -1)
     pa, pt = pa - xa * err, pt - xt * err
-    if err * da > 0.0:  # moving further past it
+    into = da > 0.0 if lim == p[P.amax] else da < 0.0
+    if into:  # moving further into it
         wa, wt = wa - xa * da, wt - xt * da
         x[X.lockA], x[X.lockAk] = 1.0, 2.0 if lim == p[P.amax] else 1.0
     return pa, pt, wa, wt
+
+
+@kernel
+def arm_stop_time(p, x, dt):
+    """When, within the step dt, the free arm reaches a stop (inf if it does not): a trial RK4 step says whether,
+    the arm's own quadratic (its relative rate and acceleration now) where, else the straight line between."""
+    if x[X.lockA] != 0.0:
+        return math.inf
+    pa, pt, wa, wt = x[X.pa], x[X.pt], x[X.wa], x[X.wt]
+    a1 = flight_rk4(p, False, pa, pt, wa, wt, dt)
+    alpha0, alpha1 = pa - pt - math.pi, a1[0] - a1[1] - math.pi
+    if p[P.amin] <= alpha1 <= p[P.amax]:
+        return math.inf
+    lim = p[P.amax] if alpha1 > p[P.amax] else p[P.amin]
+    acc = flight_accel(p, False, pa, pt, wa, wt)
+    h = first_crossing(lim - alpha0, wa - wt, acc[0] - acc[1])
+    if not 0.0 < h < dt:
+        h = dt * (lim - alpha0) / (alpha1 - alpha0)
+    return min(max(h, 0.0), dt)
 
 
 NO_CATCH, CAUGHT, GRAZED, LANDED = 0, 1, 2, 3  # seat_reached's verdicts
@@ -163,8 +190,8 @@ def seat_reached(p, dx0, dy0, dx1, dy1):
     it lands on that face at s along it from the seat (``LANDED``: :func:`.catch.land` takes the impact, and
     the hooked motion decides whether it slides into the corner, a catch, or off the card, a graze). Meeting the
     rounded end on its top (nearer the face's inward normal than its outward direction) it lands on the card's
-    end; on its far side it slides off the card's end: a graze. Crossing the face's line past its end it has
-    passed the card: a graze. Reaching the seat's depth first (beside the corner, that the faces would guide it
+    end, s then the face's end plus the arc over the end (:func:`.hooked_dynamics.hook_place`); on its far side
+    it slides off the card's end: a graze. Crossing the face's line past its end it has passed the card: a graze. Reaching the seat's depth first (beside the corner, that the faces would guide it
     into), it is caught at once."""
     first, face, kind = 2.0, -1, 0  # kind: 0 the flat side, 1 the rounded end, 2 past the end
     for k in range(2):
@@ -203,22 +230,40 @@ def seat_reached(p, dx0, dy0, dx1, dy1):
         ox, oy = hx - (s_end * ux - p[P.clear] * nx), hy - (s_end * uy - p[P.clear] * ny)
         if ox * nx + oy * ny < ox * ux + oy * uy:
             return GRAZED, first, gap, face, 0.0
-        return LANDED, first, gap, face, s_end
+        # on the end's top: s past the face's end by the arc from the end's top (hooked_dynamics.hook_place)
+        psi = max(math.atan2(ox * ux + oy * uy, ox * nx + oy * ny), 0.0)
+        return LANDED, first, gap, face, s_end + p[P.clear] * psi
     return LANDED, first, gap, face, min(max(hx * ux + hy * uy, 0.0), s_end)
 
 
 @kernel
 def flight_stage(p, x, out, sw, t, dt, detail, parked):
-    """Advance a flying design from t to t + dt: the arm's motion, the hook's path, the catch or the miss."""
+    """Advance a flying design from t to t + dt: the arm's motion, the hook's path, the catch or the miss. A step
+    in which the free arm reaches its stop is split there (the stop's impact turns the robot into one body: a step
+    that took it at its end would snap the arm up to a step late, and land a hook whose arm had not yet snapped
+    as if it had)."""
     if x[X.t0f] >= t + dt:  # released at the end of this step's hooked part: it flies from the next step
         return
     if x[X.t0f] > t:  # released inside the step: it flies the rest of it
         t, dt = x[X.t0f], t + dt - x[X.t0f]
+    h = arm_stop_time(p, x, dt)
+    if 0.0 < h < dt:
+        flight_part(p, x, out, sw, t, h, detail, parked, True)
+        if x[X.phase] != FLIGHT:
+            return
+        t, dt = t + h, dt - h
+    flight_part(p, x, out, sw, t, dt, detail, parked, False)
+
+
+@kernel
+def flight_part(p, x, out, sw, t, dt, detail, parked, to_stop):
+    """Advance a flying design from t to t + dt (``to_stop``: the arm reaches its stop at t + dt)."""
     pa0, pt0, wa0, wt0 = x[X.pa], x[X.pt], x[X.wa], x[X.wt]
-    k_arm = x[X.lockAk]
-    pa, pt, wa, wt, lamA = flight_rk4(p, x[X.lockA] > 0.0, pa0, pt0, wa0, wt0, dt)
-    unlock = (k_arm == 1.0 and lamA < 0.0) or (k_arm == 2.0 and lamA > 0.0)
-    pa, pt, wa, wt = arm_stop_in_flight(p, x, pa, pt, wa, wt)
+    lock0, k_arm = x[X.lockA], x[X.lockAk]
+    pa, pt, wa, wt, lamA = flight_rk4(p, lock0 > 0.0, pa0, pt0, wa0, wt0, dt)
+    pa1, pt1, wa1, wt1 = pa, pt, wa, wt  # the step's end before the arm's stops act there
+    unlock = stop_lets_go(k_arm, lamA, p[P.af])
+    pa, pt, wa, wt = arm_stop_in_flight(p, x, pa, pt, wa, wt, to_stop)
     if unlock:
         x[X.lockA], x[X.lockAk] = 0.0, 0.0
     x[X.pa], x[X.pt], x[X.wa], x[X.wt] = pa, pt, wa, wt
@@ -276,8 +321,10 @@ def flight_stage(p, x, out, sw, t, dt, detail, parked):
         verdict, lam_c, gap, face, along = seat_reached(p, hx0 - seat_x, hy0 - seat_y, hx - seat_x, hy - seat_y)
         if verdict == CAUGHT or verdict == LANDED:  # the state there: arm and torso interpolated inside the step
             x[X.in_notch] = 1.0
-            x[X.pa], x[X.pt] = pa0 + lam_c * (pa - pa0), pt0 + lam_c * (pt - pt0)
-            x[X.wa], x[X.wt] = wa0 + lam_c * (wa - wa0), wt0 + lam_c * (wt - wt0)
+            # (the arm's stops act at the step's end, after this: the arm as it was at the step's start)
+            x[X.pa], x[X.pt] = pa0 + lam_c * (pa1 - pa0), pt0 + lam_c * (pt1 - pt0)
+            x[X.wa], x[X.wt] = wa0 + lam_c * (wa1 - wa0), wt0 + lam_c * (wt1 - wt0)
+            x[X.lockA], x[X.lockAk] = lock0, k_arm
             if verdict == CAUGHT and x[X.nmov] == 0.0:
                 catch(p, x, sw, t + lam_c * dt, t1, gap)
             elif verdict == CAUGHT:

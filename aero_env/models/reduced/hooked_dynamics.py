@@ -381,3 +381,30 @@ def hooked_energy(p, x, oy):
            + G * (m * (oy + Hy) + Pa * sa + Pt * st)
            + spring_energy(p, pa - pt - p[P.alim]))
     return kin + pot
+
+
+@kernel
+def first_crossing(d, v, a):
+    """The first h > 0 at which v·h + a·h²/2 reaches d (inf if never)."""
+    best = math.inf
+    if a == 0.0:
+        if v != 0.0 and d / v > 0.0:
+            best = d / v
+        return best
+    disc = v * v + 2.0 * a * d
+    if disc < 0.0:
+        return best
+    r = math.sqrt(disc)
+    for h in ((-v - r) / a, (-v + r) / a):
+        if 0.0 < h < best:
+            best = h
+    return best
+
+
+@kernel
+def stop_lets_go(kind, lam, friction):
+    """Whether a stop holding a joint (kind 1 its lower stop, 2 its upper, 0 none) lets go under the load lam the
+    stop must supply (positive: pressed into the lower stop): once the pull exceeds the joint's dry friction. At
+    rest on a stop the joint's Coulomb friction holds the rest, as the pymunk world's capped motor does (the
+    regularised friction would let it creep)."""
+    return (kind == 1.0 and lam < -friction) or (kind == 2.0 and lam > friction)

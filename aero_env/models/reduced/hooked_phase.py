@@ -16,8 +16,9 @@ from .jit import kernel
 
 from ...physics.swing_rules import REST_MOVE, STOP_TOLERANCE, TURN_BACK_DEG
 from .constants import CAP_STEP, S_CORNER, STALL_WINDOW
-from .hooked_dynamics import (distance, face_end, friction_cone, hook_on_frame, hook_place, hooked_energy,
-                              normal_sum, slide_eval, slide_step, stick_eval, stick_step, theta2)
+from .hooked_dynamics import (distance, face_end, first_crossing, friction_cone, hook_on_frame, hook_place,
+                              hooked_energy, normal_sum, slide_eval, slide_step, stick_eval, stick_step, stop_lets_go,
+                              theta2)
 from .impacts import corner_stop, impact
 from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_HELD_LONG, R_STOP_HOLD, R_TIMEOUT,
                      R_TURN_BACK, R_TURN_NEAR_STOP, P, W, X)
@@ -26,14 +27,14 @@ from .transitions import (CARRIED, carried, finish, graze_off, parked_energy, re
 
 
 @kernel
-def stops_let_go(x, lam1, lamA):
-    """Free a held stop whose load turned to a pull; True if either did."""
+def stops_let_go(p, x, lam1, lamA):
+    """Free a held stop whose load turned to a pull that its joint's dry friction cannot hold; True if either did."""
     changed = False
     k1, kA = x[X.lock1k], x[X.lockAk]
-    if (k1 == 1.0 and lam1 < 0.0) or (k1 == 2.0 and lam1 > 0.0):
+    if stop_lets_go(k1, lam1, p[P.pf]):
         x[X.lock1], x[X.lock1k] = 0.0, 0.0
         changed = True
-    if (kA == 1.0 and lamA < 0.0) or (kA == 2.0 and lamA > 0.0):
+    if stop_lets_go(kA, lamA, p[P.af]):
         x[X.lockA], x[X.lockAk] = 0.0, 0.0
         changed = True
     return changed
@@ -87,30 +88,12 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
         x[X.piv] = piv
         start_slide(p, x, face, sig)
         return False
-    if stops_let_go(x, lam1, lamA):  # the first stage again under the new constraints
+    if stops_let_go(p, x, lam1, lamA):  # the first stage again under the new constraints
         a0, a1, a2 = stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt)[:3]
     x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, px, py, A, dt, a0, a1, a2)
     x[X.piv] = piv
     hooked_events(p, x, out, sw, t, dt, False, detail, parked)
     return True
-
-
-@kernel
-def first_crossing(d, v, a):
-    """The first h > 0 at which v·h + a·h²/2 reaches d (inf if never)."""
-    best = math.inf
-    if a == 0.0:
-        if v != 0.0 and d / v > 0.0:
-            best = d / v
-        return best
-    disc = v * v + 2.0 * a * d
-    if disc < 0.0:
-        return best
-    r = math.sqrt(disc)
-    for h in ((-v - r) / a, (-v + r) / a):
-        if 0.0 < h < best:
-            best = h
-    return best
 
 
 @kernel
@@ -127,13 +110,16 @@ def slide_stage(p, x, out, sw, t, dt, detail, parked):
         a = slide_eval(p, x, x[X.th1], s, x[X.pa], x[X.pt], x[X.w1], ws, x[X.wa], x[X.wt])[1]
         h_end = first_crossing(s_end - s, ws, a)
         h = min(h_end, first_crossing(-s, ws, a))
+    elif s > s_end and ws < 0.0:  # on the rounded end, sliding back toward the flat side (a hook that landed there)
+        a = slide_eval(p, x, x[X.th1], s, x[X.pa], x[X.pt], x[X.w1], ws, x[X.wa], x[X.wt])[1]
+        h = h_end = first_crossing(s_end - s, ws, a)
     if 0.0 < h < dt:
         slide_part(p, x, out, sw, t, h, detail, parked)
         if x[X.phase] != HOOKED or x[X.slide] == 0.0:  # (a stick for the rest of the step waits a step)
             return
         t, dt = t + h, dt - h
-        if h == h_end:  # on to the rounded end
-            x[X.cap] = 1.0
+        if h == h_end:  # on to the rounded end, or off it onto the flat side
+            x[X.cap] = 1.0 - x[X.cap]
     slide_part(p, x, out, sw, t, dt, detail, parked)
 
 
@@ -156,7 +142,7 @@ def slide_part(p, x, out, sw, t, dt, detail, parked):
         else:
             release_hook(p, x, out, sw, t, t)
         return
-    if stops_let_go(x, lam1, lamA):
+    if stops_let_go(p, x, lam1, lamA):
         a0, a1, a2, a3 = slide_eval(p, x, *y)[:4]
     (x[X.th1], x[X.s], x[X.pa], x[X.pt],
      x[X.w1], x[X.ws], x[X.wa], x[X.wt]) = slide_step(p, x, dt, a0, a1, a2, a3)
