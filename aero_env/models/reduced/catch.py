@@ -106,14 +106,19 @@ def hook_impulse(W00, W01, W11, vx, vy):
 def landing_impulse(p, W00, W01, W11, vx, vy, ux, uy, nx, ny):
     """The landing's impulse (Px, Py) at a contact of inverse inertia W whose relative velocity is (vx, vy), on a
     face along (ux, uy) with normal (nx, ny): inelastic along the normal; along the face the card's friction stops
-    the hook if the impulse that does so lies in the static cone (mu_s), else the hook slides on against kinetic
-    friction (mu_k) in the sense it was moving. Returns (Px, Py, sliding, the friction's sense)."""
+    the hook if the impulse that does so lies in the friction cone (kinetic for a hook that arrives slipping),
+    else the hook slides on against kinetic friction (mu_k) in the sense it was moving. Returns (Px, Py, sliding,
+    the friction's sense)."""
     vn = vx * nx + vy * ny
     if vn >= 0.0:  # not moving into the face (it met the face's line at the step's start): no impact
         return 0.0, 0.0, False, 0.0
     Px, Py = hook_impulse(W00, W01, W11, vx, vy)
     pn, pu = Px * nx + Py * ny, Px * ux + Py * uy
-    if abs(pu) <= p[P.mu_s] * pn:
+    # the hook meets the card slipping over it: kinetic friction acts while it slips, so the slip ends inside the
+    # impact only if the impulse that ends it lies in the kinetic cone (the static one for a hook that arrives
+    # slower than sim.slip_speed along the card, as the pymunk world's switch reads it)
+    mu = p[P.mu_k] if abs(vx * ux + vy * uy) > p[P.slip_speed] else p[P.mu_s]
+    if abs(pu) <= mu * pn:
         return Px, Py, False, 0.0
     # the impulse leaves the static cone: it slides, against kinetic friction
     sig = -1.0 if pu > 0.0 else 1.0  # friction along +u stops a hook moving inward (-u)

@@ -68,6 +68,13 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
     px, py, A = hook_on_frame(p, x)
     th1, pa, pt, w1, wa, wt = x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt]
     a0, a1, a2, Fx, Fy, lam1, lamA, c1, s1 = stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt)
+    # a stop that lets go first, and the step evaluated again without it (its load is the handrail's too: an arm
+    # that lifts off its stop presses the hook on under its spring); a stop let go loads the other differently:
+    # again, at most twice
+    for again in range(2):
+        if not stops_let_go(p, x, lam1, lamA):
+            break
+        a0, a1, a2, Fx, Fy, lam1, lamA, c1, s1 = stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt)
     # the tip turning in the notch: its surface slides over the faces at r·|w_arm - w_frame| (the pymunk switch
     # reads the slip at the contact point): kinetic friction above sim.slip_speed, static below, for the tip's
     # turning torque and for the cone that holds the hook alike
@@ -88,8 +95,6 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
         x[X.piv] = piv
         start_slide(p, x, face, sig)
         return False
-    if stops_let_go(p, x, lam1, lamA):  # the first stage again under the new constraints
-        a0, a1, a2 = stick_eval(p, x, px, py, A, th1, pa, pt, w1, wa, wt)[:3]
     x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, px, py, A, dt, a0, a1, a2)
     x[X.piv] = piv
     hooked_events(p, x, out, sw, t, dt, False, detail, parked)
@@ -128,6 +133,10 @@ def slide_part(p, x, out, sw, t, dt, detail, parked):
     """A sliding hook's step: kinetic friction along the face; a tensile face lets go."""
     y = (x[X.th1], x[X.s], x[X.pa], x[X.pt], x[X.w1], x[X.ws], x[X.wa], x[X.wt])
     a0, a1, a2, a3, N, lam1, lamA = slide_eval(p, x, *y)
+    for again in range(2):  # a stop that lets go first (as stick_stage)
+        if not stops_let_go(p, x, lam1, lamA):
+            break
+        a0, a1, a2, a3, N, lam1, lamA = slide_eval(p, x, *y)
     # the moment of the sliding friction about the tip's centre, r·mu_k·N·sig·cross(n, u), on the arm (the next
     # step's, as the turning torque)
     x[X.piv] = 0.0
@@ -142,8 +151,6 @@ def slide_part(p, x, out, sw, t, dt, detail, parked):
         else:
             release_hook(p, x, out, sw, t, t)
         return
-    if stops_let_go(p, x, lam1, lamA):
-        a0, a1, a2, a3 = slide_eval(p, x, *y)[:4]
     (x[X.th1], x[X.s], x[X.pa], x[X.pt],
      x[X.w1], x[X.ws], x[X.wa], x[X.wt]) = slide_step(p, x, dt, a0, a1, a2, a3)
     x[X.tq0] = tq0
@@ -187,11 +194,6 @@ def swing_checks(p, x, out, sw, t1, detail, parked):
     """The runner's checks on a hooked swing at t1 (aero_env.physics.run's rules), and the records."""
     fi = int(x[X.fi])
     th1 = x[X.th1]
-    # the catch state as the runner records it (contact_hold after the first touch)
-    if x[X.rec] == 0.0 and t1 - x[X.t_catch] >= p[P.contact_hold]:
-        sw[W.theta1_catch, fi] = math.degrees(th1)
-        sw[W.theta2_catch, fi] = math.degrees(theta2(p, x[X.pa], x[X.pt]))
-        x[X.rec] = 1.0
     if detail:
         th2 = math.degrees(theta2(p, x[X.pa], x[X.pt]))
         if not th2 >= sw[W.theta2_min, fi]:  # NaN (not yet recorded) compares False
@@ -210,6 +212,12 @@ def swing_checks(p, x, out, sw, t1, detail, parked):
             return
         else:
             return
+    # the catch state as the runner records it: when it makes the catch (contact_hold after the first touch, or
+    # later, once a touch held that long comes within sim.catch_seat of the seat)
+    if x[X.rec] == 0.0 and t1 - x[X.t_catch] >= p[P.contact_hold]:
+        sw[W.theta1_catch, fi] = math.degrees(th1)
+        sw[W.theta2_catch, fi] = math.degrees(theta2(p, x[X.pa], x[X.pt]))
+        x[X.rec] = 1.0
     # the frame carried the robot through its lowest point: its catch is a traversal (the last frame's: the row)
     if th1 >= CARRIED and math.isnan(sw[W.t_carried, fi]) and carried(x, out, sw, t1):
         return
