@@ -226,14 +226,50 @@ def seat_reached(p, dx0, dy0, dx1, dy1):
     ux, uy = (p[P.rbux], p[P.rbuy]) if face == 0 else (p[P.rfux], p[P.rfuy])
     nx, ny = (p[P.rbnx], p[P.rbny]) if face == 0 else (p[P.rfnx], p[P.rfny])
     s_end = p[P.s_end_b] if face == 0 else p[P.s_end_f]
-    if kind == 1:  # where on the rounded end: its normal there, from the end's centre to the hook's
-        ox, oy = hx - (s_end * ux - p[P.clear] * nx), hy - (s_end * uy - p[P.clear] * ny)
-        if ox * nx + oy * ny < ox * ux + oy * uy:
-            return GRAZED, first, gap, face, 0.0
-        # on the end's top: s past the face's end by the arc from the end's top (hooked_dynamics.hook_place)
-        psi = max(math.atan2(ox * ux + oy * uy, ox * nx + oy * ny), 0.0)
-        return LANDED, first, gap, face, s_end + p[P.clear] * psi
+    if kind == 1:
+        return end_touched(p, face, first, hx, hy, gap)
     return LANDED, first, gap, face, min(max(hx * ux + hy * uy, 0.0), s_end)
+
+
+@kernel
+def end_touched(p, face, first, hx, hy, gap):
+    """The hook's centre at (hx, hy) (from the seat) met face ``face``'s rounded end: where on it, by its normal
+    there (from the end's centre to the hook's). On its top (nearer the face's inward normal than its outward
+    direction) it lands there, s past the face's end by the arc from the end's top (hooked_dynamics.hook_place);
+    on its far side it slides off the card's end: a graze."""
+    ux, uy = (p[P.rbux], p[P.rbuy]) if face == 0 else (p[P.rfux], p[P.rfuy])
+    nx, ny = (p[P.rbnx], p[P.rbny]) if face == 0 else (p[P.rfnx], p[P.rfny])
+    s_end = p[P.s_end_b] if face == 0 else p[P.s_end_f]
+    ox, oy = hx - (s_end * ux - p[P.clear] * nx), hy - (s_end * uy - p[P.clear] * ny)
+    if ox * nx + oy * ny < ox * ux + oy * uy:
+        return GRAZED, first, gap, face, 0.0
+    psi = max(math.atan2(ox * ux + oy * uy, ox * nx + oy * ny), 0.0)
+    return LANDED, first, gap, face, s_end + p[P.clear] * psi
+
+
+@kernel
+def end_reached(p, dx0, dy0, dx1, dy1):
+    """Outside the next notch's mouth, the hook's centre moved from (dx0, dy0) to (dx1, dy1) (from the seat) in a
+    step: did it meet one of the notch's card ends, coming from outside its clearance? The pymunk world's hook
+    touches a card wherever it meets it: a hook that comes down onto the front card's end just outside the mouth
+    lands there (:func:`end_touched`), one that meets an end from below or beside it grazes. Returns what
+    :func:`seat_reached` returns."""
+    first, face = 2.0, -1
+    r = p[P.clear]
+    for k in range(2):
+        ux, uy = (p[P.rbux], p[P.rbuy]) if k == 0 else (p[P.rfux], p[P.rfuy])
+        nx, ny = (p[P.rbnx], p[P.rbny]) if k == 0 else (p[P.rfnx], p[P.rfny])
+        s_end = p[P.s_end_b] if k == 0 else p[P.s_end_f]
+        ex, ey = s_end * ux - r * nx, s_end * uy - r * ny
+        if distance(dx0 - ex, dy0 - ey) <= r:  # inside it already (a graze passed through the card)
+            continue
+        cap = cap_entry(ex, ey, r, dx0, dy0, dx1, dy1)
+        if cap <= 1.0 and cap < first:
+            first, face = cap, k
+    if face == -1:
+        return NO_CATCH, 0.0, 0.0, 0, 0.0
+    hx, hy = dx0 + first * (dx1 - dx0), dy0 + first * (dy1 - dy0)
+    return end_touched(p, face, first, hx, hy, distance(hx, hy))
 
 
 @kernel
@@ -319,6 +355,9 @@ def flight_part(p, x, out, sw, t, dt, detail, parked, to_stop):
     in_notch = (was_in or entered) and not (leave and was_in)
     if in_notch:
         verdict, lam_c, gap, face, along = seat_reached(p, hx0 - seat_x, hy0 - seat_y, hx - seat_x, hy - seat_y)
+    else:
+        verdict, lam_c, gap, face, along = end_reached(p, hx0 - seat_x, hy0 - seat_y, hx - seat_x, hy - seat_y)
+    if verdict != NO_CATCH:
         if verdict == CAUGHT or verdict == LANDED:  # the state there: arm and torso interpolated inside the step
             x[X.in_notch] = 1.0
             # (the arm's stops act at the step's end, after this: the arm as it was at the step's start)
