@@ -11,7 +11,7 @@ import pytest
 
 from aero_env.bench.designs import draw_designs
 from aero_env.config import load_config
-from aero_env.models.reduced import simulate_batch, simulate_reduced
+from aero_env.models.reduced import simulate_batch, simulate_reduced, swing_trace
 from aero_env.simulation import simulate
 
 PAPER = "configs/paper.yaml"
@@ -106,3 +106,67 @@ def test_the_events_a_slide_meets_add_no_energy(over):
     assert r.traversals == 7
     assert r.energy["max_gain"] <= 0.0
     assert r.energy["max_rise"] < 1e-6
+
+
+# Draws of `draw_designs(paper, 100, seed S, near paper, spread 0.15)` (seeds the docs do not use), each showing
+# one contact the pymunk world makes and the model once made differently.
+LANDS_MID_SNAP = {"design.m3": 0.0068, "design.h": 0.007662236007750035, "design.La": 0.04670423440665007,
+                  "design.spring_k": 0.000638246727790853}  # seed 5, draw 7
+ONTO_THE_CARDS_END = {"design.m3": 0.0079, "design.h": 0.006115570955649019, "design.La": 0.05166113453082741,
+                      "design.spring_k": 0.0008122969832136702}  # seed 4, draw 32
+ARM_LIFTS_AT_THE_END = {"design.m3": 0.0072, "design.h": 0.005001966483760627, "design.La": 0.05228691437467933,
+                        "design.spring_k": 0.0007655779767848191}  # seed 4, draw 5
+HELD_BY_THE_SKEWER = {"design.m3": 0.0076, "design.h": 0.004476120561920107, "design.La": 0.050056463856585326,
+                      "design.spring_k": 0.0006478498642928119}  # seed 6, draw 85
+
+
+def _both(over):
+    cfg = load_config(PAPER, over)
+    return simulate(cfg), simulate_reduced(cfg.replace({"sim.fidelity": "reduced"}))
+
+
+def test_a_landing_takes_the_arm_as_it_is_and_leaves_the_frame_on_its_rest_stop():
+    """The hook meets frame 1's front card on its rounded end while the arm is still snapping (the step's end
+    would already have it on its stop). The impact lifts the arm back and slips the hook in along the card; the
+    frame stays on its rest stop. The model once took the arm as already stopped (the hook met the card at
+    0.13 m/s, the world's at 1.17), let the sticking impulse decide the frame's stop and kicked the frame up
+    0.7 deg."""
+    world, model = _both(LANDS_MID_SNAP)
+    w, m = world.swings[1], model.swings[1]
+    assert m.t_catch == pytest.approx(w.t_catch, abs=1e-3)
+    assert m.theta1_catch_deg == pytest.approx(w.theta1_catch_deg, abs=0.01)
+    assert m.theta2_catch_deg == pytest.approx(w.theta2_catch_deg, abs=2.0)
+
+
+def test_a_hook_meets_a_cards_end_outside_the_notchs_mouth():
+    """The hook comes down onto the top of frame 1's front card end just outside the notch's mouth, its arm still
+    snapping: it stops there and slides off the card, a graze ~10.5 mm from the seat, in the world. The model
+    once tested the cards only inside the mouth: the hook passed through the card's end, met it 3 ms later with
+    the arm on its stop, and slid in to a catch."""
+    world, model = _both(ONTO_THE_CARDS_END)
+    assert (model.outcome, model.traversals) == (world.outcome, world.traversals) == ("missed_catch", 0)
+    assert "never seated" in world.reason and "never seated" in model.reason
+    assert model.miss_distance == pytest.approx(world.miss_distance, abs=1e-3)
+
+
+def test_the_arm_lifts_off_its_stop_over_the_cards_end_before_the_hook_lets_go():
+    """At the first swing's end the hook rolls over the back card's rounded end; the arm's spring lifts the arm
+    off its stop there and presses the hook on, so it lets go a few ms later with the arm already turning. The
+    model once judged the hook before the stop (8 ms early, the arm still on its stop at 120 deg)."""
+    world, model = _both(ARM_LIFTS_AT_THE_END)
+    w, m = world.swings[0], model.swings[0]
+    assert m.t_detach == pytest.approx(w.t_detach, abs=3e-3)
+    assert m.alpha_detach_deg == pytest.approx(w.alpha_detach_deg, abs=0.5)
+    assert m.alpha_detach_deg < 119.5
+
+
+def test_a_frame_on_its_stop_stays_there_until_the_pull_beats_its_skewers_friction():
+    """At the start the robot's pull on frame 0 turns it off its rest stop, but for the first ~60 ms less than
+    the skewer's dry friction holds: the world's frame stays put (the capped motor). The model's regularised
+    friction once let it creep off (0.04 deg by 50 ms)."""
+    cfg = load_config(PAPER, HELD_BY_THE_SKEWER)
+    world = simulate(cfg, poses_every=5e-4)
+    trace = swing_trace(cfg.replace({"sim.fidelity": "reduced"}), 0.056, detach=True)
+    at = {round(t, 4): th[0] for t, th, *_ in world.poses}
+    gaps = [abs(np.degrees(th - at[round(float(t), 4)])) for t, th in zip(trace["t"], trace["theta1"])]
+    assert max(gaps) < 0.02, f"{max(gaps):.3f} deg"
