@@ -10,8 +10,9 @@ long it took. With ``NUMBA_DISABLE_JIT=1`` the same code runs as plain Python (s
 
 The files are the phases: :mod:`.hooked_dynamics` (the hooked swing's equations), :mod:`.hooked_phase`
 (a hooked step and its events), :mod:`.impacts` (the stops), :mod:`.transitions` (release, slide,
-swing start, end), :mod:`.flight` (flight and the catch test), :mod:`.catch` (the catch impulse),
-:mod:`.run` (the loop and the kernels), :mod:`.outputs` (results and sentences).
+swing start, end), :mod:`.flight` (flight), :mod:`.notch` (the hook meeting the next notch's cards),
+:mod:`.catch` (the landing and the catch impulse), :mod:`.run` (the loop and the kernels), :mod:`.outputs`
+(results and sentences).
 
 **The swing (hooked).** Coordinates: the frame angle theta1, the arm's direction phi_a (hook ->
 axle) and the torso's phi_t (axle -> torso centre), the hook in the handrail's notch. This is the
@@ -54,7 +55,7 @@ lets go only once the pull on it exceeds the joint's dry friction (the skewer's 
 axle's ``axle_friction``): the pymunk world's capped motors hold a joint still there, where the
 regularised friction (``DRY_FRICTION_RATE``) would let it creep off the stop.
 
-**Flight and catch** (:mod:`.flight`, :mod:`.catch`): a ballistic centre of mass, the arm snapping
+**Flight and catch** (:mod:`.flight`, :mod:`.notch`, :mod:`.catch`): a ballistic centre of mass, the arm snapping
 about it (a step in which it reaches its stop is split there), and the hook's landing in the next
 notch. Past the notch's mouth the hook meets a card's flat side or the top of its rounded end (one that
 meets a card's end on its far side, or passes beside it, grazes); the landing is an inelastic impact
@@ -104,7 +105,7 @@ from ...config import Config, ConfigError, check_values, real_field
 from ...jit_cache import cache_dir, caching_in
 
 _KERNEL_FILES = ("jit.py", "layout.py", "constants.py", "hooked_dynamics.py", "transitions.py", "impacts.py",
-                 "hooked_phase.py", "catch.py", "flight.py", "run.py")
+                 "hooked_phase.py", "catch.py", "notch.py", "flight.py", "run.py")
 
 
 def kernel_cache_dir(source: Path | None = None) -> Path:
