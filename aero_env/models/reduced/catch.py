@@ -17,6 +17,7 @@ from ... import units
 from .hooked_dynamics import (com_velocity_from_hook, hook_from_com, hook_on_frame, slide_eval, slide_step,
                               solve_hooked, stick_eval, stick_step)
 from .layout import HOOKED, P, W, X
+from .notch import card_at_rest
 from .transitions import set_face, start_swing
 
 G = units.GRAVITY
@@ -159,9 +160,7 @@ def land(p, x, sw, t_c, t1, face, s0):
         wa = wt = ((p[P.Ka] + kc) * wa + (kc + p[P.Kt]) * wt) / (p[P.Ka] + 2.0 * kc + p[P.Kt])
     vx, vy = vcx + gax * wa + gtx * wt, vcy + gay * wa + gty * wt
     # where on the card: the face's direction and inward normal there, and the hook's centre from the frame's axis
-    ux, uy = (p[P.rbux], p[P.rbuy]) if face == 0 else (p[P.rfux], p[P.rfuy])
-    nx, ny = (p[P.rbnx], p[P.rbny]) if face == 0 else (p[P.rfnx], p[P.rfny])
-    s_end = p[P.s_end_b] if face == 0 else p[P.s_end_f]
+    ux, uy, nx, ny, s_end = card_at_rest(p, face)[:5]
     on_end = s0 > s_end
     if on_end:  # on the card's rounded end: its normal there turned psi from the face's toward the face's direction
         r, psi = p[P.clear], (s0 - s_end) / p[P.clear]

@@ -21,6 +21,19 @@ NO_CATCH, CAUGHT, GRAZED, LANDED = 0, 1, 2, 3  # the verdicts
 
 
 @kernel
+def card_at_rest(p, face):
+    """Face ``face``'s card (0 back, 1 front) in a notch at rest, world directions: the face's direction and inward
+    normal, where its flat side ends (s from the seat) and its end's centre from the seat (the hook/card clearance
+    inside the face's line: the hook's centre keeps that far from it)."""
+    if face == 0:
+        ux, uy, nx, ny, s_end = p[P.rbux], p[P.rbuy], p[P.rbnx], p[P.rbny], p[P.s_end_b]
+    else:
+        ux, uy, nx, ny, s_end = p[P.rfux], p[P.rfuy], p[P.rfnx], p[P.rfny], p[P.s_end_f]
+    r = p[P.clear]
+    return ux, uy, nx, ny, s_end, s_end * ux - r * nx, s_end * uy - r * ny
+
+
+@kernel
 def cap_entry(ex, ey, r, dx0, dy0, dx1, dy1):
     """The fraction of the step at which the path (dx0, dy0) -> (dx1, dy1) first comes within r of (ex, ey),
     or 2.0 if it does not (a card's rounded end: the hook's centre cannot come closer than the clearance)."""
@@ -50,11 +63,9 @@ def seat_reached(p, dx0, dy0, dx1, dy1):
     into), it is caught at once."""
     first, face, kind = 2.0, -1, 0  # kind: 0 the flat side, 1 the rounded end, 2 past the end
     for k in range(2):
-        ux, uy = (p[P.rbux], p[P.rbuy]) if k == 0 else (p[P.rfux], p[P.rfuy])
-        nx, ny = (p[P.rbnx], p[P.rbny]) if k == 0 else (p[P.rfnx], p[P.rfny])
-        s_end, r = (p[P.s_end_b] if k == 0 else p[P.s_end_f]), p[P.clear]
+        ux, uy, nx, ny, s_end, ex, ey = card_at_rest(p, k)
         d0, d1 = dx0 * nx + dy0 * ny, dx1 * nx + dy1 * ny
-        cap = cap_entry(s_end * ux - r * nx, s_end * uy - r * ny, r, dx0, dy0, dx1, dy1)
+        cap = cap_entry(ex, ey, p[P.clear], dx0, dy0, dx1, dy1)
         if d1 < 0.0:  # past this face's line by the step's end
             lam = min(max(d0 / (d0 - d1), 0.0), 1.0) if d0 > 0.0 else 0.0
             along = (dx0 + lam * (dx1 - dx0)) * ux + (dy0 + lam * (dy1 - dy0)) * uy
@@ -78,11 +89,9 @@ def seat_reached(p, dx0, dy0, dx1, dy1):
         return CAUGHT, first, gap, 0, 0.0
     if kind == 2:
         return GRAZED, first, gap, face, 0.0
-    ux, uy = (p[P.rbux], p[P.rbuy]) if face == 0 else (p[P.rfux], p[P.rfuy])
-    nx, ny = (p[P.rbnx], p[P.rbny]) if face == 0 else (p[P.rfnx], p[P.rfny])
-    s_end = p[P.s_end_b] if face == 0 else p[P.s_end_f]
     if kind == 1:
         return end_touched(p, face, first, hx, hy, gap)
+    ux, uy, _, _, s_end = card_at_rest(p, face)[:5]
     return LANDED, first, gap, face, min(max(hx * ux + hy * uy, 0.0), s_end)
 
 
@@ -92,10 +101,8 @@ def end_touched(p, face, first, hx, hy, gap):
     there (from the end's centre to the hook's). On its top (nearer the face's inward normal than its outward
     direction) it lands there, s past the face's end by the arc from the end's top (hooked_dynamics.hook_place);
     on its far side it slides off the card's end: a graze."""
-    ux, uy = (p[P.rbux], p[P.rbuy]) if face == 0 else (p[P.rfux], p[P.rfuy])
-    nx, ny = (p[P.rbnx], p[P.rbny]) if face == 0 else (p[P.rfnx], p[P.rfny])
-    s_end = p[P.s_end_b] if face == 0 else p[P.s_end_f]
-    ox, oy = hx - (s_end * ux - p[P.clear] * nx), hy - (s_end * uy - p[P.clear] * ny)
+    ux, uy, nx, ny, s_end, ex, ey = card_at_rest(p, face)
+    ox, oy = hx - ex, hy - ey
     if ox * nx + oy * ny < ox * ux + oy * uy:
         return GRAZED, first, gap, face, 0.0
     psi = max(math.atan2(ox * ux + oy * uy, ox * nx + oy * ny), 0.0)
@@ -112,10 +119,7 @@ def end_reached(p, dx0, dy0, dx1, dy1):
     first, face = 2.0, -1
     r = p[P.clear]
     for k in range(2):
-        ux, uy = (p[P.rbux], p[P.rbuy]) if k == 0 else (p[P.rfux], p[P.rfuy])
-        nx, ny = (p[P.rbnx], p[P.rbny]) if k == 0 else (p[P.rfnx], p[P.rfny])
-        s_end = p[P.s_end_b] if k == 0 else p[P.s_end_f]
-        ex, ey = s_end * ux - r * nx, s_end * uy - r * ny
+        ex, ey = card_at_rest(p, k)[5:]
         if distance(dx0 - ex, dy0 - ey) <= r:  # inside it already (a graze passed through the card)
             continue
         cap = cap_entry(ex, ey, r, dx0, dy0, dx1, dy1)
