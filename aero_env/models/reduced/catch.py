@@ -14,6 +14,7 @@ import math
 from .jit import kernel
 
 from ... import units
+from .hook_impulse import robot_at_hook
 from .hooked_dynamics import (com_velocity_from_hook, hook_from_com, hook_on_frame, slide_eval, slide_step,
                               solve_hooked, stick_eval, stick_step)
 from .layout import HOOKED, P, W, X
@@ -97,42 +98,6 @@ def catch(p, x, sw, t_c, t1, gap):
 
 
 @kernel
-def hook_impulse(W00, W01, W11, vx, vy):
-    """The impulse (Px, Py) that stops a contact point whose relative velocity is (vx, vy): -W^-1·v."""
-    inv = 1.0 / (W00 * W11 - W01 * W01)
-    return -(W11 * vx - W01 * vy) * inv, -(W00 * vy - W01 * vx) * inv
-
-
-@kernel
-def landing_impulse(p, W00, W01, W11, vx, vy, ux, uy, nx, ny):
-    """The landing's impulse (Px, Py) at a contact of inverse inertia W whose relative velocity is (vx, vy), on a
-    face along (ux, uy) with normal (nx, ny): inelastic along the normal; along the face the card's friction stops
-    the hook if the impulse that does so lies in the friction cone (kinetic for a hook that arrives slipping),
-    else the hook slides on against kinetic friction (mu_k) in the sense it was moving. Returns (Px, Py, sliding,
-    the friction's sense)."""
-    vn = vx * nx + vy * ny
-    if vn >= 0.0:  # not moving into the face (it met the face's line at the step's start): no impact
-        return 0.0, 0.0, False, 0.0
-    Px, Py = hook_impulse(W00, W01, W11, vx, vy)
-    pn, pu = Px * nx + Py * ny, Px * ux + Py * uy
-    # the hook meets the card slipping over it: kinetic friction acts while it slips, so the slip ends inside the
-    # impact only if the impulse that ends it lies in the kinetic cone (the static one for a hook that arrives
-    # slower than sim.slip_speed along the card, as the pymunk world's switch reads it)
-    mu = p[P.mu_k] if abs(vx * ux + vy * uy) > p[P.slip_speed] else p[P.mu_s]
-    if abs(pu) <= mu * pn:
-        return Px, Py, False, 0.0
-    # the impulse leaves the static cone: it slides, against kinetic friction
-    sig = -1.0 if pu > 0.0 else 1.0  # friction along +u stops a hook moving inward (-u)
-    dx_, dy_ = nx - sig * p[P.mu_k] * ux, ny - sig * p[P.mu_k] * uy
-    lam = -vn / (nx * (W00 * dx_ + W01 * dy_) + ny * (W01 * dx_ + W11 * dy_))
-    qx, qy = lam * dx_, lam * dy_
-    vrx, vry = vx + W00 * qx + W01 * qy, vy + W01 * qx + W11 * qy
-    if (vrx * ux + vry * uy) * sig > 0.0:  # still moving that way after the impact
-        return qx, qy, True, sig
-    return Px, Py, False, 0.0  # friction stopped it
-
-
-@kernel
 def land(p, x, sw, t_c, t1, face, s0):
     """The hook met face ``face`` (0 back, 1 front) of frame fi + 1's notch at ``s0`` from its seat at t_c (x holds
     the robot's angles and rates then): a touch, not yet a catch. The impact is inelastic along the face's normal;
@@ -178,34 +143,15 @@ def land(p, x, sw, t_c, t1, face, s0):
         Hx, Hy = cd * Hx - sd * Hy, sd * Hx + cd * Hy
     x[X.nmov] = 0.0
     vx, vy = vx + w0 * Hy, vy - w0 * Hx  # relative to the frame's point there
-    iF = 1.0 / p[P.If]
     # The impact with the frame and the arm free; a stop whose body the impulse would turn into it (the frame at
     # rest on its rest stop, the arm on its stop) holds, and the impact is taken again with that body held: the
     # stops push, never pull, so the landing may lift the arm off its stop as it does in the pymunk world.
-    frame_held, arm_held = False, False
-    into_arm = 1.0 if x[X.lockAk] == 2.0 else -1.0  # the sense of alpha that presses the arm into its stop
-    for _ in range(3):
-        if arm_held:  # the robot's inverse inertia at the hook: 1/m + G·K^-1·G^T (held: one rigid turn)
-            k00 = k01 = k11 = 1.0 / (p[P.Ka] + 2.0 * kc + p[P.Kt])
-        else:
-            inv = 1.0 / (p[P.Ka] * p[P.Kt] - kc * kc)
-            k00, k01, k11 = p[P.Kt] * inv, -kc * inv, p[P.Ka] * inv
-        W00 = 1.0 / m + gax * gax * k00 + 2.0 * gax * gtx * k01 + gtx * gtx * k11
-        W01 = gax * gay * k00 + (gax * gty + gtx * gay) * k01 + gtx * gty * k11
-        W11 = 1.0 / m + gay * gay * k00 + 2.0 * gay * gty * k01 + gty * gty * k11
-        if not frame_held:  # ... and the frame's at the contact (a rotation about its axis)
-            W00, W01, W11 = W00 + Hy * Hy * iF, W01 - Hx * Hy * iF, W11 + Hx * Hx * iF
-        Px, Py, sliding, sig = landing_impulse(p, W00, W01, W11, vx, vy, ux, uy, nx, ny)
-        ga, gt = gax * Px + gay * Py, gtx * Px + gty * Py
-        press_frame = not frame_held and th <= p[P.rest] and w0 <= 0.0 and Hx * Py - Hy * Px > 0.0
-        press_arm = on_stop and not arm_held and ((k00 - k01) * ga + (k01 - k11) * gt) * into_arm > 0.0
-        if not (press_frame or press_arm):
-            break
-        frame_held, arm_held = frame_held or press_frame, arm_held or press_arm
+    at_rest = th <= p[P.rest] and w0 <= 0.0
+    Px, Py, sliding, sig, frame_held, arm_held, wa, wt = robot_at_hook(p, x, pa, pt, wa, wt, vx, vy, ux, uy, nx, ny,
+                                                                      Hx, Hy, False, at_rest)
     # the rates after the impulse
     vcx, vcy = vcx + Px / m, vcy + Py / m
-    wa, wt = wa + k00 * ga + k01 * gt, wt + k01 * ga + k11 * gt
-    w1 = 0.0 if frame_held else w0 - (Hx * Py - Hy * Px) * iF
+    w1 = 0.0 if frame_held else w0 - (Hx * Py - Hy * Px) * (1.0 / p[P.If])
     vx, vy = vcx + gax * wa + gtx * wt, vcy + gay * wa + gty * wt
     ws = ((vx + w1 * Hy) * ux + (vy - w1 * Hx) * uy) if sliding else 0.0
     if on_stop and not arm_held:  # lifted off its stop

@@ -182,6 +182,30 @@ def stick_step(p, x, px, py, A, dt, a0, a1, a2):
 
 
 @kernel
+def solve_eliminated(g00, g01, g02, g10, g11, g12, g20, g21, g22, g0, g1, g2, frame_held, arm_held):
+    """Solve G·x = g over (theta1, phi_a, phi_t), a sliding hook's system with s eliminated (slide_eval), a held
+    stop as a substitution: the frame's (x0 = 0), the arm's (x1 = x2), or both (the robot's rigid turn only)."""
+    if frame_held and arm_held:  # the robot's rigid turn only
+        x0 = 0.0
+        x1 = x2 = (g1 + g2) / (g11 + g12 + g21 + g22)
+    elif frame_held:  # rows 1, 2 in (phi_a, phi_t)
+        inv2 = 1.0 / (g11 * g22 - g12 * g21)
+        x0, x1, x2 = 0.0, (g1 * g22 - g12 * g2) * inv2, (g11 * g2 - g1 * g21) * inv2
+    elif arm_held:  # phi_a'' = phi_t'': rows 0 and 1 + 2
+        h0, h1, e1 = g01 + g02, g11 + g12 + g21 + g22, g10 + g20
+        inv2 = 1.0 / (g00 * h1 - h0 * e1)
+        x0 = (g0 * h1 - h0 * (g1 + g2)) * inv2
+        x1 = x2 = (g00 * (g1 + g2) - e1 * g0) * inv2
+    else:
+        k00, k01, k02 = g11 * g22 - g12 * g21, g12 * g20 - g10 * g22, g10 * g21 - g11 * g20
+        inv = 1.0 / (g00 * k00 + g01 * k01 + g02 * k02)
+        x0 = (g0 * k00 + g01 * (g12 * g2 - g1 * g22) + g02 * (g1 * g21 - g11 * g2)) * inv
+        x1 = (g00 * (g1 * g22 - g12 * g2) + g0 * k01 + g02 * (g10 * g2 - g1 * g20)) * inv
+        x2 = (g00 * (g11 * g2 - g1 * g21) + g01 * (g1 * g20 - g10 * g2) + g0 * k02) * inv
+    return x0, x1, x2
+
+
+@kernel
 def slide_eval(p, x, th1, s, pa, pt, w1, ws, wa, wt):
     """Accelerations (theta1, s, phi_a, phi_t) of a design whose hook slides along a face, and the face's normal
     force N and the stops' loads. The s row carries the kinetic friction -mu_k·N·sig with N linear in the
@@ -227,24 +251,8 @@ def slide_eval(p, x, th1, s, pa, pt, w1, ws, wa, wt):
     g00, g01, g02, g0 = A - M01 * a0, D - M01 * a2, E - M01 * a3, r0 - M01 * q1
     g10, g11, g12, g1 = D - M12 * a0, p[P.Ja] - M12 * a2, F - M12 * a3, r2 - M12 * q1
     g20, g21, g22, g2 = E - M13 * a0, F - M13 * a2, p[P.Jt] - M13 * a3, r3 - M13 * q1
-    frame_held, arm_held = x[X.lock1] > 0.0, x[X.lockA] > 0.0
-    if frame_held and arm_held:  # the robot's rigid turn only
-        x0 = 0.0
-        x1 = x2 = (g1 + g2) / (g11 + g12 + g21 + g22)
-    elif frame_held:  # rows 1, 2 in (phi_a, phi_t)
-        inv2 = 1.0 / (g11 * g22 - g12 * g21)
-        x0, x1, x2 = 0.0, (g1 * g22 - g12 * g2) * inv2, (g11 * g2 - g1 * g21) * inv2
-    elif arm_held:  # phi_a'' = phi_t'': rows 0 and 1 + 2
-        h0, h1, e1 = g01 + g02, g11 + g12 + g21 + g22, g10 + g20
-        inv2 = 1.0 / (g00 * h1 - h0 * e1)
-        x0 = (g0 * h1 - h0 * (g1 + g2)) * inv2
-        x1 = x2 = (g00 * (g1 + g2) - e1 * g0) * inv2
-    else:
-        k00, k01, k02 = g11 * g22 - g12 * g21, g12 * g20 - g10 * g22, g10 * g21 - g11 * g20
-        inv = 1.0 / (g00 * k00 + g01 * k01 + g02 * k02)
-        x0 = (g0 * k00 + g01 * (g12 * g2 - g1 * g22) + g02 * (g1 * g21 - g11 * g2)) * inv
-        x1 = (g00 * (g1 * g22 - g12 * g2) + g0 * k01 + g02 * (g10 * g2 - g1 * g20)) * inv
-        x2 = (g00 * (g11 * g2 - g1 * g21) + g01 * (g1 * g20 - g10 * g2) + g0 * k02) * inv
+    x0, x1, x2 = solve_eliminated(g00, g01, g02, g10, g11, g12, g20, g21, g22, g0, g1, g2,
+                                  x[X.lock1] > 0.0, x[X.lockA] > 0.0)
     xs = q1 - a0 * x0 - a2 * x1 - a3 * x2
     N = f0 * x0 + f2 * x1 + f3 * x2 + N0
     lam1 = A * x0 + M01 * xs + D * x1 + E * x2 - r0
