@@ -148,7 +148,7 @@ def land(p, x, sw, t_c, t1, face, s0):
     # stops push, never pull, so the landing may lift the arm off its stop as it does in the pymunk world.
     at_rest = th <= p[P.rest] and w0 <= 0.0
     Px, Py, sliding, sig, frame_held, arm_held, wa, wt = robot_at_hook(p, x, pa, pt, wa, wt, vx, vy, ux, uy, nx, ny,
-                                                                      Hx, Hy, False, at_rest)
+                                                                      Hx, Hy, False, at_rest, False)
     # the rates after the impulse
     vcx, vcy = vcx + Px / m, vcy + Py / m
     w1 = 0.0 if frame_held else w0 - (Hx * Py - Hy * Px) * (1.0 / p[P.If])

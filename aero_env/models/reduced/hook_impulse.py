@@ -1,4 +1,4 @@
-"""The impulse at the hook when it meets a card face it moves into (the landing).
+"""The impulse at the hook when it meets a card face it moves into: the landing, and the frame's end stop.
 
 The robot (the arm and torso, their rates about the hook's axle) meets a card at the hook with a velocity
 relative to the card's point there. The impact is inelastic along the face's normal; along the face the
@@ -54,13 +54,25 @@ def landing_impulse(p, W00, W01, W11, vx, vy, ux, uy, nx, ny):
 
 
 @kernel
-def robot_at_hook(p, x, pa, pt, wa, wt, vx, vy, ux, uy, nx, ny, Hx, Hy, frame_held, frame_may_press):
+def bounce_impulse(W00, W01, W11, vx, vy, ux, uy, nx, ny):
+    """The impulse along the face's normal (nx, ny) alone that ends the contact point's motion off the face: a hook
+    that leaves the face and is back on it within the runner's contact_hold (a bounce, no detach; no friction
+    while it is off). Returns (Px, Py, the sense of its motion along the face after: +1 along u, -1 against)."""
+    lam = -(vx * nx + vy * ny) / (nx * (W00 * nx + W01 * ny) + ny * (W01 * nx + W11 * ny))
+    Px, Py = lam * nx, lam * ny
+    vu = (vx + W00 * Px + W01 * Py) * ux + (vy + W01 * Px + W11 * Py) * uy
+    return Px, Py, 1.0 if vu > 0.0 else -1.0
+
+
+@kernel
+def robot_at_hook(p, x, pa, pt, wa, wt, vx, vy, ux, uy, nx, ny, Hx, Hy, frame_held, frame_may_press, bounce):
     """The impact of the robot (its arm at phi_a, torso at phi_t) meeting a face along (ux, uy), inward normal
     (nx, ny), at the hook H = (Hx, Hy) from the frame's axis, with the hook's velocity (vx, vy) relative to the
     frame's point there (world) and the arm's and torso's rates wa, wt. The frame takes its share unless ``frame_held``; where ``frame_may_press`` (at
     rest on its rest stop) an impulse turning it into that stop holds it. The arm on its stop (``x[X.lockA]``) is
     held only if the impulse presses it in. Returns (Px, Py, sliding, sig, frame_held, arm_held, wa, wt): the
-    impulse on the robot, the slide it leaves, the stops that hold, the arm's and torso's rates after it."""
+    impulse on the robot, the slide it leaves, the stops that hold, the arm's and torso's rates after it. With
+    ``bounce`` the hook moves off the face and the face takes it back (:func:`bounce_impulse`): it slides on."""
     m = p[P.m]
     # the hook's motion from the robot's: d(hook)/d(phi_a) and d(hook)/d(phi_t) (hook_from_com's derivatives)
     gax, gay = p[P.Pa] * math.sin(pa) / m, -p[P.Pa] * math.cos(pa) / m
@@ -81,7 +93,11 @@ def robot_at_hook(p, x, pa, pt, wa, wt, vx, vy, ux, uy, nx, ny, Hx, Hy, frame_he
         W11 = 1.0 / m + gay * gay * k00 + 2.0 * gay * gty * k01 + gty * gty * k11
         if not frame_held:  # ... and the frame's at the contact (a rotation about its axis)
             W00, W01, W11 = W00 + Hy * Hy * iF, W01 - Hx * Hy * iF, W11 + Hx * Hx * iF
-        Px, Py, sliding, sig = landing_impulse(p, W00, W01, W11, vx, vy, ux, uy, nx, ny)
+        if bounce:
+            Px, Py, sig = bounce_impulse(W00, W01, W11, vx, vy, ux, uy, nx, ny)
+            sliding = True
+        else:
+            Px, Py, sliding, sig = landing_impulse(p, W00, W01, W11, vx, vy, ux, uy, nx, ny)
         ga, gt = gax * Px + gay * Py, gtx * Px + gty * Py
         press_frame = frame_may_press and not frame_held and Hx * Py - Hy * Px > 0.0
         press_arm = on_stop and not arm_held and ((k00 - k01) * ga + (k01 - k11) * gt) * into_arm > 0.0
