@@ -52,8 +52,10 @@ def into_corner(p, x, Fx, Fy, c1, s1, turning):
     """A hook on one face (s > 0) that the force (Fx, Fy) pulls off it: inside the notch it crosses to the corner
     (a few mm, in a few ms), unless the force would pull it out of the corner too. Sets it there (an inelastic
     stop, :func:`.impacts.corner_stop`) and returns True; False where it lets go of the handrail."""
-    if x[X.s] <= S_CORNER or x[X.s] >= face_end(p, x):
-        return False  # in the corner already, or on the card's rounded end (it leaves the card there)
+    if x[X.s] <= S_CORNER or x[X.s] >= face_end(p, x) or x[X.cap] > 0.0:
+        # in the corner already, or on the card's rounded end (it leaves the card there; a slide split at the face's
+        # end stands at s_end less a rounding error there, on the end already: x[cap])
+        return False
     if friction_cone(p, 0.0, x[X.face], Fx, Fy, c1, s1, p[P.phi_k] if turning else p[P.phi_s])[0]:
         return False
     x[X.s], x[X.cap] = 0.0, 0.0
