@@ -9,10 +9,11 @@ a new source or numba version compiles once, ``compile_kernels()`` does it on pu
 long it took. With ``NUMBA_DISABLE_JIT=1`` the same code runs as plain Python (slow: for checks).
 
 The files are the phases: :mod:`.hooked_dynamics` (the hooked swing's equations), :mod:`.hooked_phase`
-(a hooked step and its events), :mod:`.impacts` (the stops), :mod:`.transitions` (release, slide,
-swing start, end), :mod:`.flight` (flight), :mod:`.notch` (the hook meeting the next notch's cards),
-:mod:`.catch` (the landing and the catch impulse), :mod:`.hook_impulse` (the impulse at the hook where it
-meets a card face), :mod:`.run` (the loop and the kernels), :mod:`.outputs` (results and sentences).
+(a hooked step and its events), :mod:`.impacts` (the stops), :mod:`.next_card` (the next frame's card in
+a hooked hook's way), :mod:`.transitions` (release, slide, swing start, end), :mod:`.flight` (flight),
+:mod:`.notch` (the hook meeting the next notch's cards), :mod:`.catch` (the landing and the catch impulse),
+:mod:`.hook_impulse` (the impulse at the hook where it meets a card face), :mod:`.run` (the loop and the
+kernels), :mod:`.outputs` (results and sentences).
 
 **The swing (hooked).** Coordinates: the frame angle theta1, the arm's direction phi_a (hook ->
 axle) and the torso's phi_t (axle -> torso centre), the hook in the handrail's notch. This is the
@@ -106,7 +107,7 @@ from ...jit_cache import cache_dir, caching_in
 
 _KERNEL_FILES = ("jit.py", "layout.py", "constants.py", "hooked_dynamics.py", "hook_impulse.py", "transitions.py",
                  "impacts.py",
-                 "hooked_phase.py", "catch.py", "notch.py", "flight.py", "run.py")
+                 "next_card.py", "hooked_phase.py", "catch.py", "notch.py", "flight.py", "run.py")
 
 
 def kernel_cache_dir(source: Path | None = None) -> Path:

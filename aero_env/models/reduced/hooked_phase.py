@@ -20,6 +20,7 @@ from .hooked_dynamics import (distance, face_end, first_crossing, friction_cone,
                               hooked_energy, normal_sum, slide_eval, slide_step, stick_eval, stick_step, stop_lets_go,
                               theta2)
 from .impacts import corner_stop, impact
+from .next_card import next_card
 from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_HELD_LONG, R_STOP_HOLD, R_TIMEOUT,
                      R_TURN_BACK, R_TURN_NEAR_STOP, P, W, X)
 from .transitions import (CARRIED, carried, finish, graze_off, parked_energy, release_hook, start_slide,
@@ -172,6 +173,8 @@ def hooked_events(p, x, out, sw, t, dt, was_sliding, detail, parked):
             impact(p, x, out, sw, t1, False)
     if x[X.phase] != HOOKED:
         return
+    if next_card(p, x, sw.shape[1]):  # the next frame's card in the way (a steep row)
+        was_sliding = False  # (a slide it starts waits a step, as an impact's)
     if was_sliding and x[X.slide] > 0.0:  # the slide's end (a slide an impact has just started waits a step)
         s, sig = x[X.s], x[X.sig]
         s_end = face_end(p, x)
