@@ -66,6 +66,18 @@ def into_corner(p, x, Fx, Fy, c1, s1, turning):
 
 
 @kernel
+def roll(p, x, turn):
+    """A sticking hook on one face rolls along it as the arm turns by ``turn`` relative to the frame: its contact
+    point stays on the card, so its centre moves r·turn·perp(n) (perp(n) = (-ny, nx), n the face's inward normal:
+    the centre's velocity is w x (r·n)), along the face r·turn·(perp(n)·u). The pymunk world's hook creeps so, a
+    few mm/s. The move's own inertia is left out (r·w ~ 5 mm/s). Back at the corner it sits there; it does not
+    roll past the face's end."""
+    ux, uy, nx, ny = x[X.ux], x[X.uy], x[X.nx], x[X.ny]
+    s = x[X.s] + p[P.r_hook] * turn * (nx * uy - ny * ux)
+    x[X.s] = min(max(s, 0.0), face_end(p, x))
+
+
+@kernel
 def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
     """A sticking hook's step. Returns False where it did not step (it let go, or started a slide)."""
     px, py, A = hook_on_frame(p, x)
@@ -81,14 +93,17 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
     # the tip turning in the notch: its surface slides over the faces at r·|w_arm - w_frame| (the pymunk switch
     # reads the slip at the contact point): kinetic friction above sim.slip_speed, static below, for the tip's
     # turning torque and for the cone that holds the hook alike
-    turning = tip_turning(p, wa, w1)
+    # On one face (off the corner) the tip turning rolls along the card, its contact point at rest on it: static
+    # friction holds it (the pymunk switch reads the contact point's slip), and rolling takes no turning torque.
+    in_corner = x[X.s] <= S_CORNER
+    turning = tip_turning(p, wa, w1) and in_corner
     mu = p[P.mu_k] if turning else p[P.mu_s]
     release, slide, face, sig = friction_cone(p, x[X.s], x[X.face], Fx, Fy, c1, s1,
                                               p[P.phi_k] if turning else p[P.phi_s])
     if hold:
         release, slide = False, False
     # the step uses the turning torque the last step found; this one is the next step's
-    piv = mu * p[P.r_hook] * normal_sum(p, x, Fx, Fy, c1, s1, mu)
+    piv = mu * p[P.r_hook] * normal_sum(p, x, Fx, Fy, c1, s1, mu) if in_corner else 0.0
     if release:
         x[X.piv] = piv
         if not into_corner(p, x, Fx, Fy, c1, s1, turning):
@@ -99,6 +114,8 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
         start_slide(p, x, face, sig)
         return False
     x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, px, py, A, dt, a0, a1, a2)
+    if not in_corner and x[X.cap] == 0.0:
+        roll(p, x, (x[X.pa] - pa) - (x[X.th1] - th1))
     x[X.piv] = piv
     hooked_events(p, x, out, sw, t, dt, False, detail, parked)
     return True
