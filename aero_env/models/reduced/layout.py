@@ -27,6 +27,8 @@ P = IntEnum("P", [
     "mbx", "mby", "mfx", "mfy", "seatx", "seaty", "bisx", "bisy",
     # ... and its faces there (world): the hook centre's lines from the seat, directions and inward normals
     "rbux", "rbuy", "rbnx", "rbny", "rfux", "rfuy", "rfnx", "rfny",
+    # whether a hook hooked on a frame can come near the next frame's cards at all (next_card: 1 on a steep row)
+    "next_card",
     # the scene
     "pitch", "rise", "floor_drop", "theta2_start",
     # the runner's limits (sim.*)

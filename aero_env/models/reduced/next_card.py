@@ -80,7 +80,7 @@ def next_card(p, x, n_frames):
     inelastic contact and the hook set back on the card's capsule (module docstring). Returns True if that started
     a slide (its slide-end checks wait a step, as after an impact)."""
     fi = int(x[X.fi])
-    if fi + 1 >= n_frames or x[X.nmov] > 0.0:
+    if p[P.next_card] == 0.0 or fi + 1 >= n_frames or x[X.nmov] > 0.0:  # (params.next_card_reach)
         return False
     th1, s = x[X.th1], x[X.s]
     was_stuck = x[X.slide] == 0.0

@@ -175,6 +175,7 @@ def param_table(raw: Mapping[str, np.ndarray], dt: float) -> np.ndarray:
         c[f"r{face}nx"], c[f"r{face}ny"] = rot(c[f"n{face}x"], c[f"n{face}y"])
     # the scene and the runner's limits
     c["pitch"], c["rise"], c["floor_drop"] = raw["scene.pitch"], raw["scene.rise"], raw["scene.floor_drop"]
+    c["next_card"] = next_card_reach(c, rest, stop)
     c["theta2_start"] = rad(raw["scene.theta2_start_deg"])
     for key in SIM_KEYS:
         c[key] = raw["sim." + key]
@@ -196,3 +197,37 @@ def param_table(raw: Mapping[str, np.ndarray], dt: float) -> np.ndarray:
     for name in P:
         table[:, name] = np.broadcast_to(np.asarray(c[name.name], dtype=float), (n,))
     return table
+
+
+def next_card_reach(c: dict, rest: np.ndarray, stop: np.ndarray, samples: int = 33) -> np.ndarray:
+    """1.0 for each design whose hook, hooked on a frame, can come within the hook/card clearance of the next
+    frame's cards (at rest) at all; 0.0 where it cannot, and next_card skips its test (a capsule test every
+    hooked step: 9 % of the model's time; only a steep row needs it). Conservative: the hook's centre stays in
+    the annular sector its notch sweeps from the rest stop to the end stop (its radii and polar angles over
+    both faces, widened by the card's rounded end, the clearance and the sampling), and a card is out of reach
+    when none of its centre line's points lies in that sector widened by the clearance."""
+    cl = c["clear"]
+    s = np.linspace(0.0, 1.0, samples)[:, None]
+    # the hook's centre on each face, frame coordinates (p0 + s·u), and its radius and angle about the axis
+    rad_, ang_ = [], []
+    for f in "bf":
+        qx = c["p0x"] + s * c[f"s_end_{f}"] * c[f"u{f}x"]
+        qy = c["p0y"] + s * c[f"s_end_{f}"] * c[f"u{f}y"]
+        rad_.append(np.hypot(qx, qy))
+        ang_.append(np.arctan2(qy, qx))
+    r = np.concatenate(rad_)
+    ref = ang_[0][0]  # angles taken from the seat's (p0's): the notch spans far less than a turn
+    a = np.angle(np.exp(1j * (np.concatenate(ang_) - ref)))
+    widen = 3.0 * cl  # the rounded end (one clearance), the clearance itself, the card's sampling (< one)
+    r_lo, r_hi = r.min(axis=0) - widen, r.max(axis=0) + widen
+    da = np.arcsin(np.minimum(1.0, widen / np.maximum(r_lo, widen)))
+    a_lo = rest + ref + a.min(axis=0) - da  # the sector's first angle and its span
+    span = (stop - rest) + (a.max(axis=0) - a.min(axis=0)) + 2.0 * da
+    reach = np.zeros_like(r_lo, dtype=bool)
+    for f in "bf":  # the next frame's card: its centre line from the seat, seat + s·u - cl·n, at rest
+        px = c["pitch"] + c["seatx"] + s * c[f"s_end_{f}"] * c[f"r{f}ux"] - cl * c[f"r{f}nx"]
+        py = c["rise"] + c["seaty"] + s * c[f"s_end_{f}"] * c[f"r{f}uy"] - cl * c[f"r{f}ny"]
+        pr = np.hypot(px, py)
+        pa = np.mod(np.arctan2(py, px) - a_lo, 2.0 * np.pi)
+        reach |= np.any((pr >= r_lo) & (pr <= r_hi) & (pa <= span), axis=0)
+    return reach.astype(float)
