@@ -234,3 +234,29 @@ def test_a_hook_held_on_one_face_rolls_with_the_static_cone(draw):
     world, model = _both(ROLLS_ON_THE_BACK_CARD[draw], STEEP)
     assert model.swings[0].t_detach == pytest.approx(world.swings[0].t_detach, abs=5e-3)
     assert model.traversals == world.traversals
+
+
+@pytest.mark.parametrize("scene", ["configs/paper.yaml", "configs/scenes/steep.yaml", "configs/scenes/wide_pitch.yaml"])
+def test_the_next_card_test_is_skipped_only_where_no_hook_can_reach_the_next_card(scene):
+    """params.next_card_reach skips next_card's test on designs whose hook cannot come near the next frame's cards
+    (the test costs 9 % of the model's time). Run with the test forced on for every design, a batch gives the same
+    records: the skip never drops a contact. On steep the test is needed, and on the prototype's scene it is off."""
+    from aero_env.models.reduced import _run_table, check_scene
+    from aero_env.models.reduced.constants import STEP
+    from aero_env.models.reduced.layout import P
+    from aero_env.models.reduced.params import param_table, raw_from_configs
+
+    base = load_config(scene)
+    cfgs = [c.replace({"sim.fidelity": "reduced"}) for c in draw_designs(base, 200, 5).configs]
+    frames = check_scene(cfgs)
+    table = param_table(raw_from_configs(cfgs), STEP)
+    forced = table.copy()
+    forced[:, P.next_card] = 1.0
+    gated, always = _run_table(table, frames, STEP, True), _run_table(forced, frames, STEP, True)
+    assert np.array_equal(gated.traversals, always.traversals)
+    assert np.array_equal(np.nan_to_num(gated.t_detach), np.nan_to_num(always.t_detach))
+    reach = table[:, P.next_card].mean()
+    if "steep" in scene:
+        assert reach == 1.0
+    if "paper" in scene:
+        assert reach == 0.0
