@@ -68,9 +68,9 @@ def bounce_impulse(W00, W01, W11, vx, vy, ux, uy, nx, ny):
 def robot_at_hook(p, x, pa, pt, wa, wt, vx, vy, ux, uy, nx, ny, Hx, Hy, frame_held, frame_may_press, bounce):
     """The impact of the robot (its arm at phi_a, torso at phi_t) meeting a face along (ux, uy), inward normal
     (nx, ny), at the hook H = (Hx, Hy) from the frame's axis, with the hook's velocity (vx, vy) relative to the
-    frame's point there (world) and the arm's and torso's rates wa, wt. The frame takes its share unless ``frame_held``; where ``frame_may_press`` (at
-    rest on its rest stop) an impulse turning it into that stop holds it. The arm on its stop (``x[X.lockA]``) is
-    held only if the impulse presses it in. Returns (Px, Py, sliding, sig, frame_held, arm_held, wa, wt): the
+    frame's point there (world) and the arm's and torso's rates wa, wt. The frame takes its share unless
+    ``frame_held``; where ``frame_may_press`` (at rest on its rest stop) an impulse turning it into that stop holds
+    it. The arm on its stop (``x[X.lockA]``) is held only if the impulse presses it in. Returns (Px, Py, sliding, sig, frame_held, arm_held, wa, wt): the
     impulse on the robot, the slide it leaves, the stops that hold, the arm's and torso's rates after it. With
     ``bounce`` the hook moves off the face and the face takes it back (:func:`bounce_impulse`): it slides on."""
     m = p[P.m]

@@ -101,6 +101,17 @@ def hook_on_frame(p, x):
 
 
 @kernel
+def hook_motion(p, x):
+    """The hook's place from its frame's axis and its velocity (world), from the hooked state: the frame's point
+    there turning at w1, and the hook's slide along the face at ws."""
+    c1, s1 = math.cos(x[X.th1]), math.sin(x[X.th1])
+    px, py, ux, uy = hook_place(p, x, x[X.s])[:4]
+    Hx, Hy = c1 * px - s1 * py, s1 * px + c1 * py
+    uwx, uwy = c1 * ux - s1 * uy, s1 * ux + c1 * uy
+    return Hx, Hy, -Hy * x[X.w1] + uwx * x[X.ws], Hx * x[X.w1] + uwy * x[X.ws]
+
+
+@kernel
 def solve_hooked(A, B, C, D, E, F, r0, r1, r2, frame_held, arm_held):
     """Solve the sticking hook's [[A, D, E], [D, B, F], [E, F, C]]·q = r over (theta1, phi_a, phi_t) by cofactors,
     a held stop projecting its coordinate out: the frame's (q0 = 0), the arm's (J = (0, 1, -1)), or both (only the

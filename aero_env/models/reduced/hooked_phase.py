@@ -20,9 +20,9 @@ from .hooked_dynamics import (distance, face_end, first_crossing, friction_cone,
                               hooked_energy, normal_sum, slide_eval, slide_step, stick_eval, stick_step, stop_lets_go,
                               theta2)
 from .impacts import corner_stop, impact
-from .next_card import next_card
 from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_HELD_LONG, R_STOP_HOLD, R_TIMEOUT,
                      R_TURN_BACK, R_TURN_NEAR_STOP, P, W, X)
+from .next_card import next_card
 from .transitions import (CARRIED, carried, finish, graze_off, parked_energy, release_hook, start_slide,
                           track_energy)
 

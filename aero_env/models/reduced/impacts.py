@@ -6,8 +6,9 @@ throws the robot off: the frame stays stopped and the robot flies on with the ve
 jolt release pymunk shows at 180 deg). With the hook out of the corner on one face the end stop is
 :func:`end_stop_on_face`: the robot meets that face with the hook free to slide along it, and a hook
 thrown off that the robot's own motion brings back within contact_hold bounces (:func:`hook_meets`).
-The rest stop never throws the hook (the robot hangs below it). At the arm's stops a pull lifts the hook off the handrail; it is a detach only if the hook stays
-off for the runner's contact_hold (else the load sets it back in the notch: a bounce).
+The rest stop never throws the hook (the robot hangs below it). At the arm's stops a pull lifts the
+hook off the handrail; it is a detach only if the hook stays off for the runner's contact_hold (else
+the load sets it back in the notch: a bounce).
 """
 
 from __future__ import annotations
@@ -18,10 +19,10 @@ from .jit import kernel
 
 from ... import units
 from .constants import S_CORNER
-from .flight import flight_rk4, free_frame_step
+from .flight import flight_rk4
 from .hook_impulse import robot_at_hook
-from .hooked_dynamics import (com_velocity_from_hook, distance, friction_cone, hook_from_com, hook_place, hooked_mass,
-                              solve_hooked, stop_lets_go)
+from .hooked_dynamics import (com_velocity_from_hook, distance, friction_cone, hook_from_com, hook_motion, hook_place,
+                              hooked_mass, solve_hooked, stop_lets_go)
 from .layout import P, X
 from .transitions import release_hook, start_slide
 
@@ -177,25 +178,21 @@ def end_stop_on_face(p, x, out, sw, t1):
     for the runner's contact_hold (:func:`hook_meets`); one that the robot's own motion brings back sooner
     bounces, and the runner sees no detach: it slides on along the face (the pymunk world's hook, out on the back
     card at the stop, lifts 0.2 mm and is back in 6 ms)."""
-    th1, pa, pt, s = x[X.th1], x[X.pa], x[X.pt], x[X.s]
-    w1, ws, wa, wt = x[X.w1], x[X.ws], x[X.wa], x[X.wt]
+    pa, pt, wa, wt = x[X.pa], x[X.pt], x[X.wa], x[X.wt]
+    vx, vy = hook_motion(p, x)[2:]  # the hook's velocity: the frame's point's (it stops) and its slide along the face
+    # where it meets the face: the hook and the face at the stop
     lim = p[P.stop]
-    px, py, lux, luy, lnx, lny = hook_place(p, x, s)[:6]
+    px, py, lux, luy, lnx, lny = hook_place(p, x, x[X.s])[:6]
     c1, s1 = math.cos(lim), math.sin(lim)
     Hx, Hy = c1 * px - s1 * py, s1 * px + c1 * py
     ux, uy, nx, ny = c1 * lux - s1 * luy, s1 * lux + c1 * luy, c1 * lnx - s1 * lny, s1 * lnx + c1 * lny
-    cf, sf = math.cos(th1), math.sin(th1)
-    # the hook's velocity: the frame's point's (it stops) and its slide along the face
-    vx = -(sf * px + cf * py) * w1 + (cf * lux - sf * luy) * ws
-    vy = (cf * px - sf * py) * w1 + (sf * lux + cf * luy) * ws
     bounce = vx * nx + vy * ny >= 0.0  # moving off the face
     meets = BACK_ON
     if bounce:
         # the notch's other face, inside the notch: its inward normal and the hook's distance from it
         onx, ony = (p[P.nbx], p[P.nby]) if x[X.face] > 0.5 else (p[P.nfx], p[P.nfy])
         gap_o = (px - p[P.p0x]) * onx + (py - p[P.p0y]) * ony if x[X.cap] == 0.0 else -1.0
-        meets = hook_meets(p, x, pa, pt, wa, wt, vx, vy, Hx, Hy, nx, ny, c1 * onx - s1 * ony, s1 * onx + c1 * ony, gap_o,
-                           lim, 0.0, False)
+        meets = hook_meets(p, x, pa, pt, wa, wt, vx, vy, Hx, Hy, nx, ny, c1 * onx - s1 * ony, s1 * onx + c1 * ony, gap_o)
     if meets == OFF:  # off for contact_hold: it flies on
         release_hook(p, x, out, sw, t1, t1)
         return
@@ -229,31 +226,26 @@ OFF, BACK_ON, OTHER_FACE = 0, 1, 2  # what a hook moving off a still face meets 
 
 
 @kernel
-def hook_meets(p, x, pa, pt, wa, wt, vx, vy, Hx, Hy, nx, ny, onx, ony, gap_o, th, w, frame_free):
-    """A hook at H = (Hx, Hy) from its frame's axis (world), moving with velocity (vx, vy) off the face it is on
-    (the face's inward normal (nx, ny); on the card's rounded end, the normal there): does it meet a face within
+def hook_meets(p, x, pa, pt, wa, wt, vx, vy, Hx, Hy, nx, ny, onx, ony, gap_o):
+    """A hook at H = (Hx, Hy) from its frame's axis (world), moving with velocity (vx, vy) off the still face it is
+    on (the face's inward normal (nx, ny); on the card's rounded end, the normal there): does it meet a face within
     the runner's contact_hold? Its own (BACK_ON), the notch's other face, whose inward normal is (onx, ony) and
     which is gap_o away (OTHER_FACE; gap_o < 0: none), or none (OFF). The robot flies free meanwhile (flight_rk4:
     the leaf spring turns the arm about the centre of mass, which is ballistic; the arm's stop lets go as in
-    flight, and the arm's stops are not met in so short a time); the frame, at th turning at w, swings alone
-    (``frame_free``) or stays where it is. The hook is read in the frame's coordinates."""
+    flight, and the arm's stops are not met in so short a time)."""
     h = p[P.contact_hold] / BOUNCE_STEPS
     cvx, cvy = com_velocity_from_hook(p, pa, pt, wa, wt)
     cvx, cvy = cvx + vx, cvy + vy
     hx0, hy0 = hook_from_com(p, pa, pt)
     rx, ry = p[P.clear] * nx, p[P.clear] * ny  # the rounded end's centre, from the hook
     held = x[X.lockA] > 0.0
-    th0 = th
     for i in range(1, BOUNCE_STEPS + 1):
         pa, pt, wa, wt, lam = flight_rk4(p, held, pa, pt, wa, wt, h)
         held = held and not stop_lets_go(x[X.lockAk], lam, p[P.af])  # the spring lifts the arm off its stop
-        if frame_free:
-            th, w = free_frame_step(p, th, w, h)
         t = i * h
         hx, hy = hook_from_com(p, pa, pt)
         qx, qy = Hx + cvx * t + hx - hx0, Hy + cvy * t - 0.5 * G * t * t + hy - hy0  # the hook, world
-        c, sn = math.cos(th0 - th), math.sin(th0 - th)
-        dx, dy = c * qx - sn * qy - Hx, sn * qx + c * qy - Hy  # its move in the frame, as the frame stood at th0
+        dx, dy = qx - Hx, qy - Hy  # its move
         if x[X.cap] > 0.0:
             gap = distance(rx + dx, ry + dy) - p[P.clear]
         else:

@@ -13,7 +13,7 @@ from .jit import kernel
 from ... import units
 from ...physics.swing_rules import CARRIED_THETA1_DEG, TURN_BACK_DEG
 from .constants import BARRIER_GRID, ENERGY_BARRIER_MARGIN
-from .hooked_dynamics import com_velocity_from_hook, face_end, hook_from_com, hook_place, hooked_energy
+from .hooked_dynamics import com_velocity_from_hook, face_end, hook_from_com, hook_motion, hooked_energy
 from .layout import DONE, FLIGHT, R_COMPLETED, R_LET_GO, O, P, W, X
 
 G = units.GRAVITY
@@ -88,12 +88,8 @@ def hook_flight_start(p, x, t_state):
     """The flight's start from the hooked state at t_state: the centre of mass' place and velocity, the hook's
     place (world)."""
     fi = int(x[X.fi])
-    th1, pa, pt = x[X.th1], x[X.pa], x[X.pt]
-    c1, s1 = math.cos(th1), math.sin(th1)
-    px, py, ux, uy = hook_place(p, x, x[X.s])[:4]
-    Hx, Hy = c1 * px - s1 * py, s1 * px + c1 * py
-    uwx, uwy = c1 * ux - s1 * uy, s1 * ux + c1 * uy
-    vHx, vHy = -Hy * x[X.w1] + uwx * x[X.ws], Hx * x[X.w1] + uwy * x[X.ws]
+    pa, pt = x[X.pa], x[X.pt]
+    Hx, Hy, vHx, vHy = hook_motion(p, x)
     hx, hy = hook_from_com(p, pa, pt)
     dvx, dvy = com_velocity_from_hook(p, pa, pt, x[X.wa], x[X.wt])
     ox, oy = fi * p[P.pitch] + Hx, fi * p[P.rise] + Hy  # the hook, world
