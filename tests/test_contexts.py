@@ -91,9 +91,10 @@ def test_the_contexts_scene_at_reduced_steps_through_the_arrays_and_equals_the_p
         _, info = envs.reset(seed=11)
         contexts = [{k: v[i] for k, v in info["context"].items() if not k.startswith("_")} for i in range(8)]
         assert _links_below_the_base_mu_k(paper, contexts) >= 2  # the episodes a dropped link would send elsewhere
-        # action seed 0: the first of seeds 0-29 whose rewards here take three values (0, 1 and 4 traversals, measured
-        # on the parts-built robot; seed 2, the earlier pick, now leaves all eight at 0)
-        actions = np.random.default_rng(0).uniform(-1.0, 1.0, (8, env.space.dim)).astype(np.float32)
+        # action seed 4: the first of seeds 0-29 whose rewards here take more than one value (0 and 1 traversals; seed
+        # 0, the earlier pick, took 0 and 4 until a slide's rate reaching zero came to rest in the model, and now
+        # leaves all eight at 0; seed 2 before it)
+        actions = np.random.default_rng(4).uniform(-1.0, 1.0, (8, env.space.dim)).astype(np.float32)
         expected_rewards, expected_info = env._run_episodes(env._plan(actions))  # the per-episode path, same draws
         took = []
         run_columns = AerialAcrobatVectorEnv._run_columns

@@ -126,21 +126,31 @@ def slide_stage(p, x, out, sw, t, dt, detail, parked):
     """A sliding hook's step, split where it reaches the corner (the other face stops it there: a step past it
     would carry the robot past the corner before the stop puts the hook back) or its face's end (the path turns
     there onto the card's rounded end, whose curvature one RK4 step across the kink would integrate with an
-    O(dt) error). The split is where the slide's own quadratic (its rate and acceleration now) crosses."""
+    O(dt) error), or where its rate reaches zero (kinetic friction stops it there and the rest of the step sticks:
+    a step past it would let the friction, still set against the old sense, drive the hook back). The split is
+    where the slide's own quadratic (its rate and acceleration now) crosses."""
     s_end = face_end(p, x)
     s, ws = x[X.s], x[X.ws]
     x[X.cap] = 1.0 if s > s_end else 0.0
-    h, h_end = 0.0, math.inf
+    h, h_end, h_rest = 0.0, math.inf, math.inf
     if 0.0 < s < s_end:
         a = slide_eval(p, x, x[X.th1], s, x[X.pa], x[X.pt], x[X.w1], ws, x[X.wa], x[X.wt])[1]
         h_end = first_crossing(s_end - s, ws, a)
-        h = min(h_end, first_crossing(-s, ws, a))
+        if ws * a < 0.0:  # the slide's rate reaching zero: kinetic friction stops a slide, it never turns it back
+            h_rest = -ws / a
+        h = min(h_end, first_crossing(-s, ws, a), h_rest)
     elif s > s_end and ws < 0.0:  # on the rounded end, sliding back toward the flat side (a hook that landed there)
         a = slide_eval(p, x, x[X.th1], s, x[X.pa], x[X.pt], x[X.w1], ws, x[X.wa], x[X.wt])[1]
         h = h_end = first_crossing(s_end - s, ws, a)
     if 0.0 < h < dt:
         slide_part(p, x, out, sw, t, h, detail, parked)
-        if x[X.phase] != HOOKED or x[X.slide] == 0.0:  # (a stick for the rest of the step waits a step)
+        if x[X.phase] != HOOKED:
+            return
+        if h == h_rest:  # at rest on the face (its end check may have stuck it): it sticks for the rest of the step
+            x[X.slide], x[X.mu_sig], x[X.ws], x[X.tq0] = 0.0, 0.0, 0.0, 0.0
+            stick_stage(p, x, out, sw, t + h, dt - h, False, detail, parked)
+            return
+        if x[X.slide] == 0.0:  # (a stick for the rest of the step waits a step)
             return
         t, dt = t + h, dt - h
         if h == h_end:  # on to the rounded end, or off it onto the flat side

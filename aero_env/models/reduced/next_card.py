@@ -117,8 +117,10 @@ def next_card(p, x, n_frames):
     if slide_free:
         if along > ESCAPE_MIN:  # set back on the capsule along its face
             x[X.s] += depth / along
-        if x[X.ws] > 0.0:
+        # the slide's sense after the impulse; only an impulse sets it (a slide whose own motion turns back came to
+        # rest: the slide's end check sticks it, and kinetic friction never drives it the other way)
+        if vn < 0.0 and x[X.ws] > 0.0:
             x[X.sig], x[X.slide], x[X.mu_sig] = 1.0, 1.0, p[P.mu_k]
-        elif x[X.ws] < 0.0:
+        elif vn < 0.0 and x[X.ws] < 0.0:
             x[X.sig], x[X.slide], x[X.mu_sig] = -1.0, 1.0, -p[P.mu_k]
     return started
