@@ -9,12 +9,12 @@ which decides where it lets go.
 
 Frame i + 1 at rest is fixed here (its rest stop takes the push). Each card is a capsule: its centre line
 from the seat's corner to the card's end, the hook's centre kept the hook/card clearance from it. Where the
-hook's centre comes inside, the contact is an inelastic impact along the line from the card to the hook
-(frictionless: the cards' friction and the faces' are left to the motion after it) in the hooked
-coordinates (theta1, s, phi_a, phi_t): the hook may slide along the face of its own notch that leads away
-from the card (out of the corner; on a face, along it), else it is held at s and the impulse turns the
-frame and the robot. The hook is then set back on the capsule along its face. Repeated every step while the
-card stays in the way (a pressed contact, taken as a run of small impacts).
+hook's centre comes inside, the contact is an inelastic impact along the line from the card to the hook,
+with the card's Coulomb friction along it (:func:`card_impulse`; the notch's face's friction is left to the
+motion after it), in the hooked coordinates (theta1, s, phi_a, phi_t): the hook may slide along the face of
+its own notch that leads away from the card (out of the corner; on a face, along it), else it is held at s
+and the impulse turns the frame and the robot. The hook is then set back on the capsule along its face.
+Repeated every step while the card stays in the way (a pressed contact, taken as a run of small impacts).
 """
 
 from __future__ import annotations
@@ -75,6 +75,32 @@ def unit_impulse(p, x, jth, js, slide_free):
 
 
 @kernel
+def card_impulse(p, x, jth, js, kth, ks, vn, vt, slide_free):
+    """The contact's impulse (normal, along the card) for a hook meeting the card at normal rate vn < 0 and rate
+    vt along it, the contact's rates being (jth, js)·(w1, ws) and (kth, ks)·(w1, ws): inelastic along the
+    normal; along the card its friction stops the slip if the impulse that does so lies in the cone, else it
+    acts at mu_k against the slip, as the pymunk world's card does (its contacts at the kick carry a
+    tangential impulse of mu_k times the normal one: scripts/world_contacts.py). The cone is mu_k's for a hook
+    slipping faster than sim.slip_speed, mu_s's below (the world's switch). Where friction would jam the
+    contact (no normal impulse stops it) the impact is frictionless."""
+    n0, ns = unit_impulse(p, x, jth, js, slide_free)[:2]
+    t0, ts = unit_impulse(p, x, kth, ks, slide_free)[:2]
+    Knn, Knt, Ktt = jth * n0 + js * ns, jth * t0 + js * ts, kth * t0 + ks * ts  # (the matrix is symmetric)
+    mu = p[P.mu_k] if abs(vt) > p[P.slip_speed] else p[P.mu_s]
+    det = Knn * Ktt - Knt * Knt
+    if det > 1e-12 * Knn * Ktt:  # the slip can be stopped: does the impulse that stops it lie in the cone?
+        ln, lt = (-vn * Ktt + vt * Knt) / det, (-vt * Knn + vn * Knt) / det
+        if ln > 0.0 and abs(lt) <= mu * ln:
+            return ln, lt
+    sg = 1.0 if vt > 0.0 else -1.0
+    rate = Knn - sg * p[P.mu_k] * Knt
+    if vt == 0.0 or rate <= 0.0:
+        return -vn / Knn, 0.0
+    ln = -vn / rate
+    return ln, -sg * p[P.mu_k] * ln
+
+
+@kernel
 def next_card(p, x, n_frames):
     """After a hooked step: is frame i's hook inside the clearance of frame i + 1's cards (at rest)? Then the
     inelastic contact and the hook set back on the card's capsule (module docstring). Returns True if that started
@@ -107,12 +133,14 @@ def next_card(p, x, n_frames):
     jth, js = -Hy * nx + Hx * ny, (uwx * nx + uwy * ny) if slide_free else 0.0
     vn = jth * x[X.w1] + js * x[X.ws]
     if vn < 0.0:  # moving into the card
-        d0, ds, d2, d3, rate = unit_impulse(p, x, jth, js, slide_free)
-        lam = -vn / rate
-        x[X.w1] += d0 * lam
-        x[X.ws] += ds * lam
-        x[X.wa] += d2 * lam
-        x[X.wt] += d3 * lam
+        tx, ty = -ny, nx  # along the card at the contact
+        kth, ks = -Hy * tx + Hx * ty, (uwx * tx + uwy * ty) if slide_free else 0.0
+        ln, lt = card_impulse(p, x, jth, js, kth, ks, vn, kth * x[X.w1] + ks * x[X.ws], slide_free)
+        d0, ds, d2, d3 = unit_impulse(p, x, ln * jth + lt * kth, ln * js + lt * ks, slide_free)[:4]
+        x[X.w1] += d0
+        x[X.ws] += ds
+        x[X.wa] += d2
+        x[X.wt] += d3
     started = slide_free and was_stuck
     if slide_free:
         if along > ESCAPE_MIN:  # set back on the capsule along its face
