@@ -297,9 +297,12 @@ def swing_checks(p, x, out, sw, t1, detail, parked):
 def hooked_step(p, x, out, sw, t, dt, hold, detail, parked):
     """Advance a hooked design from t to t + dt (a sticking hook that starts to slide slides from t). A slide that
     may reach the face's end or the corner within the step is stepped at CAP_STEP: the roll over the card's end
-    lasts a few ms, and each event is met in a short step."""
+    lasts a few ms, and each event is met in a short step. So is a hook pressed against the next frame's card
+    (its push is an impulse at each step's end: next_card)."""
     n = 1
-    if x[X.slide] > 0.0:  # within reach of the face's end or of the corner (twice the slide's own reach: it
+    if x[X.card] > 0.0:  # pressed against the next frame's card (next_card): short steps while it lasts
+        n = int(math.ceil(dt / CAP_STEP - 1e-9))
+    elif x[X.slide] > 0.0:  # within reach of the face's end or of the corner (twice the slide's own reach: it
         # accelerates) the step is split, so each event falls in a short step (slide_stage splits that one there)
         s_end = face_end(p, x)
         reach = 2.0 * abs(x[X.ws]) * dt

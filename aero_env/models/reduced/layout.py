@@ -64,6 +64,8 @@ X = IntEnum("X", [
     "touch", "t_touch", "touch_gap",
     # the next frame, kicked by a touch that grazed: moving (1) or at rest (0), its angle and rate
     "nmov", "nth", "nw",
+    # the hook, hooked, inside the clearance of the next frame's card at the last step's end (next_card): 1, else 0
+    "card",
 ], start=0)
 
 O = IntEnum("O", [  # noqa: E741 (the run's Outputs)

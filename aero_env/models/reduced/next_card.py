@@ -14,7 +14,10 @@ with the card's Coulomb friction along it (:func:`card_impulse`; the notch's fac
 motion after it), in the hooked coordinates (theta1, s, phi_a, phi_t): the hook may slide along the face of
 its own notch that leads away from the card (out of the corner; on a face, along it), else it is held at s
 and the impulse turns the frame and the robot. The hook is then set back on the capsule along its face.
-Repeated every step while the card stays in the way (a pressed contact, taken as a run of small impacts).
+Repeated every step while the card stays in the way (a pressed contact, taken as a run of small impacts;
+while it lasts the steps are CAP_STEP long, as the world's: within a 4 ms step the hook's own slide would
+come to rest against its friction while the world's card keeps pushing it, and the next step's impulse
+would be the step's push at once).
 """
 
 from __future__ import annotations
@@ -106,7 +109,10 @@ def next_card(p, x, n_frames):
     inelastic contact and the hook set back on the card's capsule (module docstring). Returns True if that started
     a slide (its slide-end checks wait a step, as after an impact)."""
     fi = int(x[X.fi])
-    if p[P.next_card] == 0.0 or fi + 1 >= n_frames or x[X.nmov] > 0.0:  # (params.next_card_reach)
+    if p[P.next_card] == 0.0:  # (params.next_card_reach)
+        return False
+    x[X.card] = 0.0
+    if fi + 1 >= n_frames or x[X.nmov] > 0.0:
         return False
     th1, s = x[X.th1], x[X.s]
     was_stuck = x[X.slide] == 0.0
@@ -116,6 +122,7 @@ def next_card(p, x, n_frames):
     face, depth, nx, ny = card_contact(p, Hx - p[P.pitch] - p[P.seatx], Hy - p[P.rise] - p[P.seaty])
     if face < 0:
         return False
+    x[X.card] = 1.0  # (the next steps are short while it stays: hooked_step)
     # the face of its own notch it may slide along: on a face, that face; in the corner, the one leading most along
     # the card's push, if either leads away from the card
     if s > S_CORNER:
