@@ -146,6 +146,10 @@ SLIPS_ACROSS_THE_CARD = {"design.La": 0.051956008971109996, "design.h": 0.005106
 # ... draw 51: the next card presses the hook out along the back card for 20 ms
 PRESSED_BY_THE_NEXT_CARD = {"design.La": 0.04972213297069073, "design.h": 0.012300938140153888, "design.m3": 0.0065,
                             "design.spring_k": 0.0013693889415210107}
+# seed 4, draw 72: the hook lands on frame 1's back card and slides into its corner while the arm, just snapped,
+# rests on its stop
+OPENED_BY_THE_CORNER = {"design.La": 0.04417154983520508, "design.h": 0.008412264360934497, "design.m3": 0.0077,
+                        "design.spring_k": 0.0013722392991503515}
 HELD_BY_THE_SKEWER = {"design.m3": 0.0076, "design.h": 0.004476120561920107, "design.La": 0.050056463856585326,
                       "design.spring_k": 0.0006478498642928119}  # seed 6, draw 85
 
@@ -277,6 +281,16 @@ def test_a_hook_pressed_by_the_next_card_is_pushed_all_along():
     world, model = _both(PRESSED_BY_THE_NEXT_CARD, STEEP)
     assert model.swings[0].t_detach == pytest.approx(world.swings[0].t_detach, abs=3e-3)
     assert model.traversals == world.traversals
+
+
+def test_the_corner_stops_the_hook_and_lets_the_arm_open_off_its_stop():
+    """The corner's impact ends the hook's slide into it; its impulse opens the arm, which lifts off its stop, as at
+    a landing (stops push, never pull). The model once kept the arm on its stop through it, the robot turning as
+    one body, and the second swing let go 84 ms after the world's."""
+    world, model = _both(OPENED_BY_THE_CORNER)
+    assert model.swings[0].t_detach == pytest.approx(world.swings[0].t_detach, abs=2e-3)
+    assert model.swings[1].t_catch == pytest.approx(world.swings[1].t_catch, abs=2e-3)
+    assert model.swings[1].t_detach == pytest.approx(world.swings[1].t_detach, abs=3e-3)
 
 
 @pytest.mark.parametrize("scene", ["configs/paper.yaml", "configs/scenes/steep.yaml", "configs/scenes/wide_pitch.yaml"])

@@ -46,7 +46,7 @@ pressing on that face, starts a slide along the face with kinetic friction (a fo
 hook/card clearance) the hook rolls on over the card's rounded end, a circle of the clearance about the
 card's end with s its arc length, and lets go where N turns tensile, as pymunk's hook does 2-5 ms after
 the face's end; a slide that stops on the face sticks again, one that reaches the corner stops there in
-an inelastic impact (:func:`.impacts.corner_stop`: the momenta of the frame angle and the robot's two
+an inelastic impact (:func:`.hook_impulse.corner_stop`: the momenta of the frame angle and the robot's two
 angles carry through it). A hook pulled off one face inside the notch crosses to the corner unless the
 corner's cones would let it go too. F pulling on both faces lets go at once. The tip turning in the corner faster
 than ``sim.slip_speed`` holds with mu_k, as the pymunk world's static/kinetic switch reads the slip at the

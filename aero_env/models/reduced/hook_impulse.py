@@ -1,4 +1,5 @@
-"""The impulse at the hook when it meets a card face it moves into: the landing, and the frame's end stop.
+"""The impulse at the hook when it meets a card face it moves into: the landing, the frame's end stop, and the
+corner that ends a slide (corner_stop).
 
 The robot (the arm and torso, their rates about the hook's axle) meets a card at the hook with a velocity
 relative to the card's point there. The impact is inelastic along the face's normal; along the face the
@@ -14,6 +15,7 @@ import math
 
 from .jit import kernel
 
+from .hooked_dynamics import hooked_mass, solve_hooked
 from .layout import P, X
 
 
@@ -105,3 +107,34 @@ def robot_at_hook(p, x, pa, pt, wa, wt, vx, vy, ux, uy, nx, ny, Hx, Hy, frame_he
             break
         frame_held, arm_held = frame_held or press_frame, arm_held or press_arm
     return Px, Py, sliding, sig, frame_held, arm_held, wa + k00 * ga + k01 * gt, wt + k01 * ga + k11 * gt
+
+
+@kernel
+def corner_stop(p, x):
+    """A hook sliding along a face reaches the corner (s = 0), where the other face stops it: an inelastic
+    impact that ends the slide. The corner's impulse acts only on the hook's place on the frame, so the momenta
+    of the frame angle and the robot's two angles carry through it; the frame stays on its rest stop if the
+    impact pushes it there, and the arm on its stop only if the impact presses it in (stops push, never pull:
+    an arm the impact opens leaves its stop, as at a landing). Sets the rates (ws = 0)."""
+    w1, ws, wa, wt = x[X.w1], x[X.ws], x[X.wa], x[X.wt]
+    A, M01, D, E, M12, M13, F = hooked_mass(p, x, 0.0)[:7]
+    B, C = p[P.Ja], p[P.Jt]
+    r0 = A * w1 + M01 * ws + D * wa + E * wt
+    r1 = D * w1 + M12 * ws + B * wa + F * wt
+    r2 = E * w1 + M13 * ws + F * wa + C * wt
+    held = x[X.lock1] > 0.0
+    on_stop = x[X.lockA] > 0.0
+    into_arm = 1.0 if x[X.lockAk] == 2.0 else -1.0  # the sense of alpha that presses the arm into its stop
+    arm_held = False
+    for _ in range(3):
+        q0, q1, q2 = solve_hooked(A, B, C, D, E, F, r0, r1, r2, held, arm_held)
+        press_frame = not held and q0 < 0.0 and x[X.th1] <= p[P.rest]  # pushed into the rest stop: it holds
+        press_arm = on_stop and not arm_held and (q1 - q2) * into_arm > 0.0
+        if not (press_frame or press_arm):
+            break
+        held, arm_held = held or press_frame, arm_held or press_arm
+    if held:
+        x[X.lock1], x[X.lock1k] = 1.0, 1.0
+    if on_stop and not arm_held:  # opened off its stop
+        x[X.lockA], x[X.lockAk] = 0.0, 0.0
+    x[X.w1], x[X.ws], x[X.wa], x[X.wt] = q0, 0.0, q1, q2

@@ -19,7 +19,8 @@ from .constants import CAP_STEP, S_CORNER, STALL_WINDOW
 from .hooked_dynamics import (distance, face_end, first_crossing, friction_cone, hook_on_frame, hook_place,
                               hooked_energy, normal_sum, slide_eval, slide_step, stick_eval, stick_step, stop_lets_go,
                               theta2)
-from .impacts import corner_stop, impact
+from .hook_impulse import corner_stop
+from .impacts import impact
 from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_HELD_LONG, R_STOP_HOLD, R_TIMEOUT,
                      R_TURN_BACK, R_TURN_NEAR_STOP, P, W, X)
 from .next_card import next_card
@@ -52,7 +53,7 @@ def tip_turning(p, wa, w1):
 def into_corner(p, x, Fx, Fy, c1, s1, turning):
     """A hook on one face (s > 0) that the force (Fx, Fy) pulls off it: inside the notch it crosses to the corner
     (a few mm, in a few ms), unless the force would pull it out of the corner too. Sets it there (an inelastic
-    stop, :func:`.impacts.corner_stop`) and returns True; False where it lets go of the handrail."""
+    stop, :func:`.hook_impulse.corner_stop`) and returns True; False where it lets go of the handrail."""
     if x[X.s] <= S_CORNER or x[X.s] >= face_end(p, x) or x[X.cap] > 0.0:
         # in the corner already, or on the card's rounded end (it leaves the card there; a slide split at the face's
         # end stands at s_end less a rounding error there, on the end already: x[cap])

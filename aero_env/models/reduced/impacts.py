@@ -20,9 +20,9 @@ from .jit import kernel
 from ... import units
 from .constants import S_CORNER
 from .flight import flight_rk4
-from .hook_impulse import robot_at_hook
+from .hook_impulse import corner_stop, robot_at_hook
 from .hooked_dynamics import (com_velocity_from_hook, distance, friction_cone, hook_from_com, hook_motion, hook_place,
-                              hooked_mass, solve_hooked, stop_lets_go)
+                              stop_lets_go)
 from .layout import P, X
 from .transitions import release_hook, start_slide
 
@@ -147,26 +147,6 @@ def impact(p, x, out, sw, t1, frame):
     # an impulse outside the static cone but pressing on a face starts (or continues) a slide along it
     if into and slide and not was_sliding and not at_rest:
         start_slide(p, x, face, sig)
-
-
-@kernel
-def corner_stop(p, x):
-    """A hook sliding along a face reaches the corner (s = 0), where the other face stops it: an inelastic
-    impact that ends the slide. The corner's impulse acts only on the hook's place on the frame, so the momenta
-    of the frame angle and the robot's two angles carry through it; the frame stays on its rest stop if the
-    impact pushes it there. Sets the rates (ws = 0)."""
-    w1, ws, wa, wt = x[X.w1], x[X.ws], x[X.wa], x[X.wt]
-    A, M01, D, E, M12, M13, F = hooked_mass(p, x, 0.0)[:7]
-    B, C = p[P.Ja], p[P.Jt]
-    r0 = A * w1 + M01 * ws + D * wa + E * wt
-    r1 = D * w1 + M12 * ws + B * wa + F * wt
-    r2 = E * w1 + M13 * ws + F * wa + C * wt
-    held = x[X.lock1] > 0.0
-    q0, q1, q2 = solve_hooked(A, B, C, D, E, F, r0, r1, r2, held, x[X.lockA] > 0.0)
-    if not held and q0 < 0.0 and x[X.th1] <= p[P.rest]:  # pushed into the rest stop: it holds the frame
-        x[X.lock1], x[X.lock1k] = 1.0, 1.0
-        q0, q1, q2 = solve_hooked(A, B, C, D, E, F, r0, r1, r2, True, x[X.lockA] > 0.0)
-    x[X.w1], x[X.ws], x[X.wa], x[X.wt] = q0, 0.0, q1, q2
 
 
 @kernel
