@@ -150,6 +150,10 @@ PRESSED_BY_THE_NEXT_CARD = {"design.La": 0.04972213297069073, "design.h": 0.0123
 # rests on its stop
 OPENED_BY_THE_CORNER = {"design.La": 0.04417154983520508, "design.h": 0.008412264360934497, "design.m3": 0.0077,
                         "design.spring_k": 0.0013722392991503515}
+# near steep's stored solution (seed 84), draw 68: the hook lands on frame 1's front card and reaches its corner within
+# the landing's step
+LANDS_BY_THE_CORNER = {"design.La": 0.044087845835387704, "design.h": 0.010273819111883643, "design.m3": 0.0076,
+                       "design.spring_k": 0.0015856717017310455}
 HELD_BY_THE_SKEWER = {"design.m3": 0.0076, "design.h": 0.004476120561920107, "design.La": 0.050056463856585326,
                       "design.spring_k": 0.0006478498642928119}  # seed 6, draw 85
 
@@ -290,6 +294,16 @@ def test_the_corner_stops_the_hook_and_lets_the_arm_open_off_its_stop():
     world, model = _both(OPENED_BY_THE_CORNER)
     assert model.swings[0].t_detach == pytest.approx(world.swings[0].t_detach, abs=2e-3)
     assert model.swings[1].t_catch == pytest.approx(world.swings[1].t_catch, abs=2e-3)
+    assert model.swings[1].t_detach == pytest.approx(world.swings[1].t_detach, abs=3e-3)
+
+
+def test_a_landing_that_slides_into_the_corner_within_its_step_stops_there():
+    """The hook lands on a face and reaches the corner before the landing's step ends: the corner stops it there,
+    and the rest of the step sticks. The model once set it at the corner with its slide's rate still on (0.53
+    m/s) and met the corner a step later, the robot having moved on as if the face went on past it; the second
+    swing let go 23 ms before the world's."""
+    world, model = _both(LANDS_BY_THE_CORNER, STEEP)
+    assert model.swings[1].t_catch == pytest.approx(world.swings[1].t_catch, abs=3e-3)
     assert model.swings[1].t_detach == pytest.approx(world.swings[1].t_detach, abs=3e-3)
 
 

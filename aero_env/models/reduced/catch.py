@@ -14,9 +14,9 @@ import math
 from .jit import kernel
 
 from ... import units
-from .hook_impulse import robot_at_hook
-from .hooked_dynamics import (com_velocity_from_hook, hook_from_com, hook_on_frame, slide_eval, slide_step,
-                              solve_hooked, stick_eval, stick_step)
+from .hook_impulse import corner_stop, robot_at_hook
+from .hooked_dynamics import (com_velocity_from_hook, first_crossing, hook_from_com, hook_on_frame, slide_eval,
+                              slide_step, solve_hooked, stick_eval, stick_step)
 from .layout import HOOKED, P, W, X
 from .notch import card_at_rest
 from .transitions import set_face, start_swing
@@ -27,17 +27,27 @@ G = units.GRAVITY
 @kernel
 def rest_of_step_hooked(p, x, dt):
     """The hooked motion over the rest of the step a catch or a landing fell in (dt), from the state it set;
-    the frame no lower than its rest stop."""
+    the frame no lower than its rest stop. A slide that reaches the corner within it stops there (the corner's
+    impact, :func:`.hook_impulse.corner_stop`) and sticks for what is left of the step."""
     if x[X.slide] > 0.0:
         y = (x[X.th1], x[X.s], x[X.pa], x[X.pt], x[X.w1], x[X.ws], x[X.wa], x[X.wt])
         a0, a1, a2, a3 = slide_eval(p, x, *y)[:4]
+        h = first_crossing(-x[X.s], x[X.ws], a1) if x[X.s] > 0.0 else math.inf
+        if h >= dt:
+            (x[X.th1], x[X.s], x[X.pa], x[X.pt],
+             x[X.w1], x[X.ws], x[X.wa], x[X.wt]) = slide_step(p, x, dt, a0, a1, a2, a3)
+            x[X.s] = max(x[X.s], 0.0)
+            x[X.th1] = max(x[X.th1], p[P.rest])
+            return
         (x[X.th1], x[X.s], x[X.pa], x[X.pt],
-         x[X.w1], x[X.ws], x[X.wa], x[X.wt]) = slide_step(p, x, dt, a0, a1, a2, a3)
-        x[X.s] = max(x[X.s], 0.0)
-    else:
-        hpx, hpy, hA = hook_on_frame(p, x)
-        a0, a1, a2 = stick_eval(p, x, hpx, hpy, hA, x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt])[:3]
-        x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, hpx, hpy, hA, dt, a0, a1, a2)
+         x[X.w1], x[X.ws], x[X.wa], x[X.wt]) = slide_step(p, x, h, a0, a1, a2, a3)
+        x[X.s], x[X.cap] = 0.0, 0.0
+        corner_stop(p, x)
+        x[X.slide], x[X.mu_sig], x[X.tq0] = 0.0, 0.0, 0.0
+        dt -= h
+    hpx, hpy, hA = hook_on_frame(p, x)
+    a0, a1, a2 = stick_eval(p, x, hpx, hpy, hA, x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt])[:3]
+    x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, hpx, hpy, hA, dt, a0, a1, a2)
     x[X.th1] = max(x[X.th1], p[P.rest])
 
 
