@@ -43,7 +43,6 @@ def rest_of_step_hooked(p, x, dt):
          x[X.w1], x[X.ws], x[X.wa], x[X.wt]) = slide_step(p, x, h, a0, a1, a2, a3)
         x[X.s], x[X.cap] = 0.0, 0.0
         corner_stop(p, x)
-        x[X.slide], x[X.mu_sig], x[X.tq0] = 0.0, 0.0, 0.0
         dt -= h
     hpx, hpy, hA = hook_on_frame(p, x)
     a0, a1, a2 = stick_eval(p, x, hpx, hpy, hA, x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt])[:3]

@@ -17,6 +17,7 @@ from .jit import kernel
 
 from .hooked_dynamics import hooked_mass, solve_hooked
 from .layout import P, X
+from .transitions import end_slide
 
 
 @kernel
@@ -115,7 +116,7 @@ def corner_stop(p, x):
     impact that ends the slide. The corner's impulse acts only on the hook's place on the frame, so the momenta
     of the frame angle and the robot's two angles carry through it; the frame stays on its rest stop if the
     impact pushes it there, and the arm on its stop only if the impact presses it in (stops push, never pull:
-    an arm the impact opens leaves its stop, as at a landing). Sets the rates (ws = 0)."""
+    an arm the impact opens leaves its stop, as at a landing). Sets the rates and ends the slide (end_slide)."""
     w1, ws, wa, wt = x[X.w1], x[X.ws], x[X.wa], x[X.wt]
     A, M01, D, E, M12, M13, F = hooked_mass(p, x, 0.0)[:7]
     B, C = p[P.Ja], p[P.Jt]
@@ -137,4 +138,5 @@ def corner_stop(p, x):
         x[X.lock1], x[X.lock1k] = 1.0, 1.0
     if on_stop and not arm_held:  # opened off its stop
         x[X.lockA], x[X.lockAk] = 0.0, 0.0
-    x[X.w1], x[X.ws], x[X.wa], x[X.wt] = q0, 0.0, q1, q2
+    x[X.w1], x[X.wa], x[X.wt] = q0, q1, q2
+    end_slide(x)

@@ -24,7 +24,7 @@ from .impacts import impact
 from .layout import (HOOKED, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_HELD_LONG, R_STOP_HOLD, R_TIMEOUT,
                      R_TURN_BACK, R_TURN_NEAR_STOP, P, W, X)
 from .next_card import next_card
-from .transitions import (CARRIED, carried, finish, graze_off, parked_energy, release_hook, start_slide,
+from .transitions import (CARRIED, carried, end_slide, finish, graze_off, parked_energy, release_hook, start_slide,
                           track_energy)
 
 
@@ -62,7 +62,6 @@ def into_corner(p, x, Fx, Fy, c1, s1, turning):
         return False
     x[X.s], x[X.cap] = 0.0, 0.0
     corner_stop(p, x)
-    x[X.slide], x[X.mu_sig], x[X.tq0] = 0.0, 0.0, 0.0
     return True
 
 
@@ -148,7 +147,7 @@ def slide_stage(p, x, out, sw, t, dt, detail, parked):
         if x[X.phase] != HOOKED:
             return
         if h == h_rest:  # at rest on the face (its end check may have stuck it): it sticks for the rest of the step
-            x[X.slide], x[X.mu_sig], x[X.ws], x[X.tq0] = 0.0, 0.0, 0.0, 0.0
+            end_slide(x)
             stick_stage(p, x, out, sw, t + h, dt - h, False, detail, parked)
             return
         if x[X.slide] == 0.0:  # (a stick for the rest of the step waits a step)
@@ -218,7 +217,8 @@ def hooked_events(p, x, out, sw, t, dt, was_sliding, detail, parked):
             x[X.s], x[X.cap] = 0.0, 0.0
             corner_stop(p, x)
         if back or x[X.ws] * sig <= 0.0:  # ... or the slide came to rest: it sticks
-            x[X.slide], x[X.mu_sig], x[X.ws], x[X.tq0], x[X.cap] = 0.0, 0.0, 0.0, 0.0, 0.0  # (no sliding moment)
+            end_slide(x)
+            x[X.cap] = 0.0
     swing_checks(p, x, out, sw, t1, detail, parked)
 
 

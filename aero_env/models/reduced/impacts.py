@@ -24,7 +24,7 @@ from .hook_impulse import corner_stop, robot_at_hook
 from .hooked_dynamics import (com_velocity_from_hook, distance, friction_cone, hook_from_com, hook_motion, hook_place,
                               stop_lets_go)
 from .layout import P, X
-from .transitions import release_hook, start_slide
+from .transitions import end_slide, release_hook, start_slide
 
 G = units.GRAVITY
 
@@ -194,11 +194,11 @@ def end_stop_on_face(p, x, out, sw, t1):
         x[X.ws] = hvx * ux + hvy * uy
         x[X.sig], x[X.slide], x[X.mu_sig] = sig, 1.0, p[P.mu_k] * sig
     else:
-        x[X.ws], x[X.slide], x[X.mu_sig], x[X.sig], x[X.tq0] = 0.0, 0.0, 0.0, 1.0, 0.0
+        end_slide(x)
+        x[X.sig] = 1.0
     if meets == OTHER_FACE:  # it crosses to the other face, a few ms: set in the corner (as into_corner does)
         x[X.s], x[X.cap] = 0.0, 0.0
         corner_stop(p, x)
-        x[X.slide], x[X.mu_sig], x[X.tq0] = 0.0, 0.0, 0.0
 
 
 BOUNCE_STEPS = 5  # the free robot's motion over contact_hold in this many RK4 steps (its return is read at each)

@@ -91,7 +91,9 @@ def card_impulse(p, x, jth, js, kth, ks, vn, vt, slide_free):
     Knn, Knt, Ktt = jth * n0 + js * ns, jth * t0 + js * ts, kth * t0 + ks * ts  # (the matrix is symmetric)
     mu = p[P.mu_k] if abs(vt) > p[P.slip_speed] else p[P.mu_s]
     det = Knn * Ktt - Knt * Knt
-    if det > 1e-12 * Knn * Ktt:  # the slip can be stopped: does the impulse that stops it lie in the cone?
+    # det vanishes, up to rounding, where the hook is held at s (both impulses then turn the frame alone, and the
+    # slip cannot be stopped apart from the approach); else: does the impulse that stops the slip lie in the cone?
+    if det > 1e-12 * Knn * Ktt:
         ln, lt = (-vn * Ktt + vt * Knt) / det, (-vt * Knn + vn * Knt) / det
         if ln > 0.0 and abs(lt) <= mu * ln:
             return ln, lt

@@ -84,6 +84,13 @@ def start_slide(p, x, face, sig):
 
 
 @kernel
+def end_slide(x):
+    """The hook stops sliding along its face and sticks: no slide, no kinetic friction or its moment, no rate along
+    the face."""
+    x[X.slide], x[X.mu_sig], x[X.ws], x[X.tq0] = 0.0, 0.0, 0.0, 0.0
+
+
+@kernel
 def hook_flight_start(p, x, t_state):
     """The flight's start from the hooked state at t_state: the centre of mass' place and velocity, the hook's
     place (world)."""
