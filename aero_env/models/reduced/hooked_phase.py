@@ -94,7 +94,8 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
     # reads the slip at the contact point): kinetic friction above sim.slip_speed, static below, for the tip's
     # turning torque and for the cone that holds the hook alike
     # On one face (off the corner) the tip turning rolls along the card, its contact point at rest on it: static
-    # friction holds it (the pymunk switch reads the contact point's slip), and rolling takes no turning torque.
+    # friction holds it (the pymunk switch reads the contact point's slip), and rolling takes no turning friction
+    # (the friction that holds the hook has its moment about the tip's centre all the same: tq below).
     in_corner = x[X.s] <= S_CORNER
     turning = tip_turning(p, wa, w1) and in_corner
     mu = p[P.mu_k] if turning else p[P.mu_s]
@@ -113,10 +114,17 @@ def stick_stage(p, x, out, sw, t, dt, hold, detail, parked):
         x[X.piv] = piv
         start_slide(p, x, face, sig)
         return False
+    # held on one face, the hook's static friction (the force's component along its path) acts at the tip's surface:
+    # a moment about the tip's centre, as a slide's kinetic friction has (slide_part); the next step's
+    tq = 0.0
+    if not in_corner:
+        ux, uy = hook_place(p, x, x[X.s])[2:4]
+        tq = -p[P.r_hook] * (Fx * (c1 * ux - s1 * uy) + Fy * (s1 * ux + c1 * uy)) * (1.0 - 2.0 * x[X.face])
     x[X.th1], x[X.pa], x[X.pt], x[X.w1], x[X.wa], x[X.wt] = stick_step(p, x, px, py, A, dt, a0, a1, a2)
     if not in_corner and x[X.cap] == 0.0:
         roll(p, x, (x[X.pa] - pa) - (x[X.th1] - th1))
     x[X.piv] = piv
+    x[X.tq0] = tq
     hooked_events(p, x, out, sw, t, dt, False, detail, parked)
     return True
 
