@@ -2,8 +2,8 @@
 
 For following one design through the world when the reduced model and the world part: each runner step in
 the window prints the time, the angles of the robot's frame and the next one, and every contact of the hook's
-shape with a card (its frame, back or front card, depth in mm, the step's impulse in N·s, and "new" on the
-step a contact first appears). It found the steep scene's kick: the hook, in frame 0's corner, meeting
+shape with a card (its frame, back or front card, depth in mm, the step's impulse in N·s along the contact's
+normal and across it, the friction's, and "new" on the step a contact first appears). It found the steep scene's kick: the hook, in frame 0's corner, meeting
 frame 1's back card at theta1 ~ 145 deg (docs/fidelity.md, the reduced model).
 
     python scripts/world_contacts.py configs/scenes/steep.yaml --from 0.4995 --to 0.5012 \\
@@ -31,7 +31,7 @@ IMPULSE = units.MASS * units.LENGTH / units.TIME  # engine impulse units per N·
 
 
 def contacts(world: World, names: dict) -> list[tuple[str, float, float, bool]]:
-    """The hook's contacts now: (card, depth mm, impulse N·s, first step of the contact)."""
+    """The hook's contacts now: (card, depth mm, normal and tangential impulse N·s, first step of the contact)."""
     hook = world.contact.hook_shape
     found = []
 
@@ -41,8 +41,9 @@ def contacts(world: World, names: dict) -> list[tuple[str, float, float, bool]]:
         if other not in names:
             return
         depth = -min((p.distance for p in arb.contact_point_set.points), default=0.0)
-        found.append((names[other], units.length_to_si(depth) * 1e3, arb.total_impulse.length / IMPULSE,
-                      arb.is_first_contact))
+        impulse, normal = arb.total_impulse, arb.contact_point_set.normal
+        found.append((names[other], units.length_to_si(depth) * 1e3, abs(impulse.dot(normal)) / IMPULSE,
+                      impulse.cross(normal) / IMPULSE, arb.is_first_contact))
 
     hook.body.each_arbiter(read)
     return found
@@ -68,12 +69,12 @@ def main(argv: list[str] | None = None) -> int:
              for k, shape in enumerate(f.shapes)}
     while world.t < args.t0:
         world.step()
-    print("t s      theta1 deg (frames 0, 1)  contacts: card depth_mm impulse_N·s")
+    print("t s      theta1 deg (frames 0, 1)  contacts: card depth_mm normal_N·s tangential_N·s")
     while world.t < args.t1:
         world.step()
         th = [math.degrees(f.body.angle) for f in world.frames[:2]]
-        seen = "  ".join(f"{card} {depth:.3f} {imp:.2e}{' new' if new else ''}"
-                         for card, depth, imp, new in contacts(world, names))
+        seen = "  ".join(f"{card} {depth:.3f} {jn:.2e} {jt:+.2e}{' new' if new else ''}"
+                         for card, depth, jn, jt, new in contacts(world, names))
         print(f"{world.t:.5f}  {th[0]:8.3f} {th[1]:8.3f}   {seen}")
     return 0
 

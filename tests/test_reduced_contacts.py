@@ -361,7 +361,7 @@ def test_the_next_card_test_is_skipped_only_where_no_hook_can_reach_the_next_car
 def test_world_contacts_lists_the_steep_kick_and_refuses_a_bad_window_in_one_line(capsys):
     """scripts/world_contacts.py, the tool that found the steep kick: on KICKED_BY_THE_NEXT_CARD it shows the hook,
     in frame 0's corner (both of frame 0's cards), meeting frame 1's back card at theta1 ~ 144.9 deg, a new contact
-    with an impulse several times the corner's."""
+    with a normal impulse several times the corner's, and its friction's across it."""
     import importlib.util
 
     from .conftest import ROOT
@@ -375,7 +375,7 @@ def test_world_contacts_lists_the_steep_kick_and_refuses_a_bad_window_in_one_lin
     before = next(ln for ln in lines if "frame1" not in ln)
     kick = next(ln for ln in lines if "frame1.back" in ln)
     assert "frame0.back" in before and "frame0.front" in before
-    assert kick.split("frame1.back")[1].split()[2] == "new" and 144.5 < float(kick.split()[1]) < 145.5
+    assert kick.split("frame1.back")[1].split()[3] == "new" and 144.5 < float(kick.split()[1]) < 145.5
     impulse = lambda line, card: float(line.split(card)[1].split()[1])  # noqa: E731
     assert impulse(kick, "frame1.back") > 3.0 * impulse(before, "frame0.back")
     assert script.main([PAPER, "--from", "1", "--to", "0.5"]) == 2
