@@ -3,8 +3,9 @@
 For following one design through the world when the reduced model and the world part: each runner step in
 the window prints the time, the angles of the robot's frame and the next one, and every contact of the hook's
 shape with a card (its frame, back or front card, depth in mm, the step's impulse in N·s along the contact's
-normal and across it, the friction's, and "new" on the step a contact first appears). It found the steep scene's kick: the hook, in frame 0's corner, meeting
-frame 1's back card at theta1 ~ 145 deg (docs/fidelity.md, the reduced model).
+normal and across it, the friction's, and "new" on the step a contact first appears). It found the steep
+scene's kick: the hook, in frame 0's corner, meeting frame 1's back card at theta1 ~ 145 deg (docs/fidelity.md,
+the reduced model).
 
     python scripts/world_contacts.py configs/scenes/steep.yaml --from 0.4995 --to 0.5012 \\
         --set design.La=0.0465 --set design.h=0.00927 --set design.m3=0.0081 --set design.spring_k=0.00109

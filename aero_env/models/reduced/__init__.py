@@ -50,12 +50,13 @@ an inelastic impact (:func:`.hook_impulse.corner_stop`: the momenta of the frame
 angles carry through it). A hook pulled off one face inside the notch crosses to the corner unless the
 corner's cones would let it go too. F pulling on both faces lets go at once. The tip turning in the corner faster
 than ``sim.slip_speed`` holds with mu_k, as the pymunk world's static/kinetic switch reads the slip at the
-contact; on one face it rolls (its contact point at rest on the card: mu_s, no turning friction, the hook creeping
-r·turn along the face), and the static friction that holds it there, acting at the tip's surface, turns the robot
-about the tip's centre as a slide's kinetic friction does. The frame's end stop with the hook out on one face is an impact with that face
-(:func:`.impacts.end_stop_on_face`). On a steep row the next frame's card can be in a hooked hook's way
-(:mod:`.next_card`). Impacts (:mod:`.impacts`) are inelastic, and every stop is one-sided in them: a frame
-on its rest stop that the arm's impact throws forward leaves the stop. A stop that holds a joint at rest
+contact; on one face it rolls (its contact point at rest on the card: mu_s, no turning friction, the hook
+creeping r·turn along the face), and the static friction that holds it there, acting at the tip's surface,
+turns the robot about the tip's centre as a slide's kinetic friction does. The frame's end stop with the hook
+out on one face is an impact with that face (:func:`.impacts.end_stop_on_face`). On a steep row the next
+frame's card can be in a hooked hook's way (:mod:`.next_card`). Impacts (:mod:`.impacts`) are inelastic,
+and every stop is one-sided in them: a frame on its rest stop that the arm's impact throws forward leaves the
+stop. A stop that holds a joint at rest
 lets go only once the pull on it exceeds the joint's dry friction (the skewer's ``pivot_friction``, the
 axle's ``axle_friction``): the pymunk world's capped motors hold a joint still there, where the
 regularised friction (``DRY_FRICTION_RATE``) would let it creep off the stop.
