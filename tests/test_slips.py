@@ -270,7 +270,10 @@ def test_real_ctrl_c_in_tune_ends_with_one_line(tmp_path):
     db = tmp_path / "s.db"
     proc = subprocess.Popen([sys.executable, "-m", "aero_env.cli", "tune", str(PAPER), "--set", "scene.frames=3",
                              "--sampler", "random", "--trials", "100000", "--no-progress", "--storage",
-                             f"sqlite:///{db}", "--study", "s"], cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+                             f"sqlite:///{db}", "--study", "s"], cwd=tmp_path, stderr=subprocess.PIPE, text=True,
+                            # a shell without job control starts `pytest &` with SIGINT ignored, which the child
+                            # would inherit: give it the default a terminal's process has
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:  # a failed wait must not leave a 100,000-trial study running for the rest of the suite
         deadline = time.time() + 120
         done = 0
