@@ -31,7 +31,7 @@ from aero_env.physics.world import World  # noqa: E402
 IMPULSE = units.MASS * units.LENGTH / units.TIME  # engine impulse units per N·s
 
 
-def contacts(world: World, names: dict) -> list[tuple[str, float, float, bool]]:
+def contacts(world: World, names: dict) -> list[tuple[str, float, float, float, bool]]:
     """The hook's contacts now: (card, depth mm, normal and tangential impulse N·s, first step of the contact)."""
     hook = world.contact.hook_shape
     found = []

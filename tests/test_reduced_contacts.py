@@ -271,9 +271,10 @@ def test_a_hook_held_on_one_face_rolls_with_the_static_cone(draw):
 def test_the_friction_holding_the_hook_on_one_face_turns_the_robot_about_the_tip(draw):
     """A hook held out on one face sits on it by static friction, the force's component along the face, which acts
     at the tip's surface, a tip radius from the centre the robot turns about: a moment, as a slide's kinetic friction
-    has (the reference world's single contact there carries r·jt of about 30 uN·m). Without it the model let go
-    3.4 ms (draw 7) and 2.3 ms (draw 2) after the reference world, its first catch as late. Compared with the
-    reference rung: the default world's detach is itself about 1 ms late here."""
+    has (on steep draw 25 the reference world's single contact there carries r·jt = 21 uN·m: docs/fidelity.md).
+    Without it the model let go 3.4 ms (draw 7) and 2.3 ms (draw 2) after the reference world and caught the next
+    frame 7.0 and 2.2 ms late. Compared with the reference rung: the default world's own detach is up to 1 ms late
+    here."""
     cfg = load_config(STEEP, HELD_OUT_ON_THE_BACK_CARD[draw])
     world = simulate(cfg.replace({"sim.fidelity": "reference"}))
     model = simulate_reduced(cfg.replace({"sim.fidelity": "reduced"}))
