@@ -170,6 +170,9 @@ def test_design_problem_sections_load_and_round_trip(tmp_path):
     ({"tunable": [{"name": "scene.effects.drag", "low": 0, "high": 1}]}, "not a real-valued design or scene field"),
     ({"tunable": [{"name": "design.m3", "low": 0.005, "high": 0.01}] * 2}, "listed twice"),
     ({"tunable": [{"name": "design.mu_s", "low": 0.5, "high": 1, "linked": ["design.mu_s"]}]}, "linked to itself"),
+    # a linked value that is not a list is refused, even an empty-looking one (it once read as no links)
+    ({"tunable": [{"name": "design.mu_s", "low": 0.5, "high": 1, "linked": ""}]}, "tunable[0].linked = '': must be a list"),
+    ({"context": [{"name": "scene.rise", "low": 0.001, "high": 0.003, "linked": 0}]}, "context[0].linked = 0: must be a list"),
     ({"tunable": "design.m3"}, "tunable: must be a list"),
     ({"context": [{"name": "scene.rise", "low": 0.001}]}, "give both low and high"),
     ({"context": [{"name": "scene.rise", "low": 0.003, "high": 0.001}]}, "must be at least context[0].low"),

@@ -48,7 +48,7 @@ The modules, each importing only those above it:
 """
 
 from .design_problem import (CARD_PAIRS, DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, TABLE3_CARD_PAIRS,
-                             ContextRange, Tolerance, Tunable)
+                             ContextRange, Tolerance, Tunable, linked_keys)
 from .loading import Config, from_dict, load_config, parse_override, read_yaml, schema_rows
 from .plausible import UnitSlipWarning, unit_slips, warn_unit_slips
 from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, Effects, EnvOptions, Scene, Sim, check_design,
@@ -59,7 +59,7 @@ __all__ = [
     "CARD_PAIRS", "Config", "ConfigError", "ContextRange", "DEFAULT_CONTEXT", "DEFAULT_FIDELITY", "DEFAULT_TUNABLES", "Design",
     "Effects", "EnvOptions", "FIDELITY_PRESETS", "LIST_SECTIONS", "MissingExtra", "SECTIONS", "Scene", "Sim", "TABLE3_CARD_PAIRS", "Tolerance",
     "Tunable",
-    "check_design", "check_value", "check_values", "did_you_mean", "from_dict", "load_config", "parse_override",
+    "check_design", "check_value", "check_values", "did_you_mean", "from_dict", "linked_keys", "load_config", "parse_override",
     "pymunk_fidelities", "read_yaml", "real_field", "real_keys",
     "schema_rows", "spec", "UnitSlipWarning", "unit_slips", "warn_unit_slips",
 ]

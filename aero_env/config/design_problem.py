@@ -151,7 +151,7 @@ def _tunable(entry, where, name, f) -> Tunable:
     if scale == "log" and low <= 0:
         raise ConfigError(f"{where}.low = {low!r}: a log scale needs low > 0, allowed (0, {high})")
     step = _step(entry, where, name, f, low, high, relative_to)
-    return Tunable(name, low, high, scale, _linked(entry, where, name),
+    return Tunable(name, low, high, scale, linked_keys(entry.get("linked"), where, name),
                    None if relative_to is None else str(relative_to), step)
 
 
@@ -174,7 +174,7 @@ def _chosen(entry, where, name, f) -> Tunable:
     for key in ("relative_to", "step", "scale"):
         if entry.get(key) not in (None, "linear" if key == "scale" else None):
             raise ConfigError(f"{where}.{key}: not allowed with choices (each choice is a value, not a range)")
-    linked = _linked(entry, where, name)
+    linked = linked_keys(entry.get("linked"), where, name)
     rows = entry["choices"]
     if isinstance(rows, (str, bytes)) or not isinstance(rows, (list, tuple)) or len(rows) < 2:
         raise ConfigError(f"{where}.choices = {rows!r}: must be a list of at least 2 choices, each a list of "
@@ -199,9 +199,11 @@ def _chosen(entry, where, name, f) -> Tunable:
     return Tunable(name, low, high, "linear", linked, None, None, tuple(out))
 
 
-def _linked(entry: Mapping, where: str, name: str) -> tuple:
-    """A tunable's or a context's ``linked`` keys: real fields other than its own."""
-    linked = entry.get("linked", ()) or ()
+def linked_keys(linked: Any, where: str, name: str) -> tuple[str, ...]:
+    """An entry's ``linked`` keys (a tunable's, a context's, a tolerance's): real fields other than its own; absent
+    (None) is none."""
+    if linked is None:
+        return ()
     if isinstance(linked, str) or not isinstance(linked, (list, tuple)):
         raise ConfigError(f"{where}.linked = {linked!r}: must be a list of dotted keys, e.g. [design.mu_k]")
     for j, key in enumerate(linked):
@@ -223,7 +225,7 @@ def _context(entry, where, name, f) -> ContextRange:
     has_low, has_high = entry.get("low") is not None, entry.get("high") is not None
     if has_low != has_high:
         raise ConfigError(f"{where}: give both low and high (drawn uniformly at reset), or neither (fixed)")
-    linked = _linked(entry, where, name)
+    linked = linked_keys(entry.get("linked"), where, name)
     if not has_low:
         return ContextRange(name, linked=linked)
     low, high = _bound(entry, "low", where, name, f), _bound(entry, "high", where, name, f)

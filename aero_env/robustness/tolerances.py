@@ -37,7 +37,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 
-from ..config import Config, ConfigError, read_yaml, real_field
+from ..config import Config, ConfigError, linked_keys, read_yaml, real_field
 
 MAX_RELATIVE = 0.5  # the config's tolerance section allows ± up to half the value
 LENGTH_MM = 0.0005  # m: a ruler and a craft knife on card
@@ -158,7 +158,7 @@ def _entry(entry: Any, where: str) -> Tol:
     reason = entry.get("reason", "")
     if not isinstance(reason, str):
         raise ConfigError(f"{where}.reason = {reason!r}: must be a line of text")
-    return Tol(name, relative, absolute, _linked(entry.get("linked"), where, name), reason)
+    return Tol(name, relative, absolute, linked_keys(entry.get("linked"), where, name), reason)
 
 
 def _number(entry: Mapping, key: str, where: str, hi: float) -> float:
@@ -171,18 +171,6 @@ def _number(entry: Mapping, key: str, where: str, hi: float) -> float:
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not 0.0 <= v <= hi:
         raise ConfigError(f"{where}.{key} = {v!r}: must be a finite number in [0, {hi}]")
     return float(v)
-
-
-def _linked(linked: Any, where: str, name: str) -> tuple[str, ...]:
-    if linked is None:
-        return ()
-    if isinstance(linked, str) or not isinstance(linked, list):
-        raise ConfigError(f"{where}.linked = {linked!r}: must be a list of dotted keys, e.g. [design.mu_k]")
-    for j, key in enumerate(linked):
-        real_field(key, f"{where}.linked[{j}]")
-        if key == name:
-            raise ConfigError(f"{where}.linked[{j}] = {key!r}: a field cannot be linked to itself")
-    return tuple(str(k) for k in linked)
 
 
 def _check_names(tols: tuple[Tol, ...], where: str) -> None:
