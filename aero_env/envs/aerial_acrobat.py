@@ -76,6 +76,18 @@ STEP_AFTER_END = ("step() after the episode ended (terminated=True): call reset(
                   "leaves a step after the end undefined")
 
 
+def env_config(config: str | Path | Config | None, overrides: Mapping[str, Any] | None,
+               kwargs: Mapping[str, Any]) -> Config:
+    """An env's config: a path (or None: the default scene) loaded with its overrides and keyword overrides, or a
+    Config with them applied, warned about unit slips as load_config warns about a file's values."""
+    extra = {**(overrides or {}), **kwargs}
+    if isinstance(config, Config):
+        cfg = config.replace(extra) if extra else config
+        warn_unit_slips(extra)
+        return cfg
+    return load_config(config, extra)
+
+
 def _no_display() -> bool:
     """A Linux machine without a display to open, where no SDL video driver was chosen."""
     return (sys.platform.startswith("linux") and not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY")
@@ -276,12 +288,7 @@ class AerialAcrobatEnv(gym.Env):
                  render_mode: str | None = None, **kwargs: Any):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ConfigError(f"render_mode = {render_mode!r}: must be one of {self.metadata['render_modes']} or None")
-        extra = {**(overrides or {}), **kwargs}
-        if isinstance(config, Config):
-            self.config = config.replace(extra) if extra else config
-            warn_unit_slips(extra)  # as load_config does for a file's values and its overrides
-        else:
-            self.config = load_config(config, extra)
+        self.config = env_config(config, overrides, kwargs)
         self.space = DesignSpace(self.config)
         if render_mode is not None and self.config.sim.model == "reduced":
             raise ConfigError(f"render_mode = {render_mode!r}: sim.fidelity = {self.config.sim.fidelity!r} never builds "

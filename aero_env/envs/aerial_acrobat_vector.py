@@ -16,12 +16,12 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
-from ..config import Config, ConfigError, load_config, warn_unit_slips
+from ..config import Config, ConfigError
 from ..design_space import DesignSpace, Draw
 from ..process_pool import worker_pool
 from ..reward import reward
 from ..simulation import simulate
-from .aerial_acrobat import Episode, episode_info, plan_episode, reset_info
+from .aerial_acrobat import Episode, env_config, episode_info, plan_episode, reset_info
 from .vector_info import batch_infos, batch_runs, scatter_infos, stack_columns, stack_infos
 
 __all__ = ["AerialAcrobatVectorEnv", "MAX_NUM_ENVS", "POOL_START_METHOD"]
@@ -176,12 +176,7 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         if render_mode is not None:
             raise ConfigError(f"render_mode = {render_mode!r}: the vector env does not render; render the single env "
                               f"(gym.make(..., render_mode=...))")
-        extra = {**(overrides or {}), **kwargs}
-        if isinstance(config, Config):
-            self.config = config.replace(extra) if extra else config
-            warn_unit_slips(extra)  # as load_config does for a file's values and its overrides
-        else:
-            self.config = load_config(config, extra)
+        self.config = env_config(config, overrides, kwargs)
         if self.config.env.record_trace:
             raise ConfigError("env.record_trace = True: the vector env keeps no runs to trace; record with the single "
                               "env (gym.make)")
