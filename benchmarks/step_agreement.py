@@ -35,7 +35,9 @@ it gets that count) and the rest (*fragile*: the card's tolerances already decid
 ``--builds-at FIDELITY`` runs the builds at another rung, e.g. the reference, so that which designs count as robust
 does not rest on the rung being judged.
 
-A setting named ``reduced`` is the reduced model's rung (its preset), on the same designs and builds. Every setting is
+A setting named ``reduced`` is the reduced model's rung (its preset), on the same designs and builds; ``reduced/DT_MS``
+is the same model at another step (``reduced/0.5``: 0.5 ms, an eighth of its preset's 4 ms), which asks whether its
+misses are its step's. Every setting is
 timed one design per call; the reduced model's batch (``bench accuracy``, ``bench throughput``) is several times
 cheaper per design than that.
 
@@ -47,6 +49,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -70,17 +73,29 @@ DEFAULT_SETTINGS = "0.5/30,0.5/60,0.5/120,0.25/30,0.25/60,0.125/30,0.125/120"
 
 def parse_settings(text: str) -> list:
     """``"0.5/30,0.25/60"`` -> [(0.0005 s, 30), (0.00025 s, 60)]; ``reduced`` stays the name of that rung (the
-    compiled reduced model at its preset); a bad entry is one line naming it."""
+    compiled reduced model at its preset), ``reduced/0.5`` -> ("reduced", 0.0005 s), that model at another step; a
+    bad entry is one line naming it."""
     out = []
     for item in text.split(","):
         if item == "reduced":
             out.append(item)
             continue
+        if item.startswith("reduced/"):
+            try:
+                dt = float(item[len("reduced/"):]) / 1e3
+            except ValueError:
+                dt = math.nan
+            if not 1e-5 <= dt <= 0.004:  # (NaN fails it too) down to 10 us, up to the preset's 4 ms
+                raise ConfigError(f"--settings: {item!r}: the reduced model's step must be in [0.01, 4] ms, e.g. "
+                                  f"reduced/0.5")
+            out.append(("reduced", dt))
+            continue
         try:
             dt_ms, iterations = item.split("/")
             dt, it = float(dt_ms) / 1e3, int(iterations)
         except ValueError:
-            raise ConfigError(f"--settings: {item!r} must be DT_MS/ITERATIONS (e.g. 0.5/30) or reduced") from None
+            raise ConfigError(f"--settings: {item!r} must be DT_MS/ITERATIONS (e.g. 0.5/30), reduced or "
+                              f"reduced/DT_MS") from None
         if not (0.0 < dt <= 0.002 and 1 <= it <= 1000):
             raise ConfigError(f"--settings: {item!r}: the step must be in (0, 2] ms and the iterations in [1, 1000]")
         out.append((dt, it))
@@ -88,8 +103,12 @@ def parse_settings(text: str) -> list:
 
 
 def setting_name(setting) -> str:
-    """A setting's column name: ``reduced``, or ``DT_MS/ITERATIONS``."""
-    return setting if setting == "reduced" else f"{setting[0] * 1e3:g}/{setting[1]}"
+    """A setting's column name: ``reduced``, ``reduced/DT_MS`` or ``DT_MS/ITERATIONS``."""
+    if setting == "reduced":
+        return setting
+    if setting[0] == "reduced":
+        return f"reduced/{setting[1] * 1e3:g}"
+    return f"{setting[0] * 1e3:g}/{setting[1]}"
 
 
 def setting_overrides(setting) -> dict:
@@ -97,6 +116,8 @@ def setting_overrides(setting) -> dict:
     iterations with one pymunk step per runner step."""
     if setting == "reduced":
         return fidelity_overrides("reduced")
+    if setting[0] == "reduced":
+        return {**fidelity_overrides("reduced"), "sim.dt": setting[1]}
     dt, iterations = setting
     return {"sim.dt": dt, "sim.iterations": iterations, "sim.substeps": 1}
 
@@ -108,7 +129,7 @@ def _run(job) -> tuple[int, str, int | None, float]:
     """One design at one setting: its traversal count (None: a build the world cannot assemble) and wall time."""
     i, name, cfg = job
     load_kernels()  # once per process, untimed
-    if name == "reduced":
+    if name.startswith("reduced"):
         reduced.compile_kernels()  # likewise: loaded from numba's cache once per process, untimed
     t0 = time.perf_counter()
     try:
@@ -239,8 +260,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--designs", type=int, default=200, help="designs, uniform from the action box unless --near "
                     "(default: 200)")
     ap.add_argument("--seed", type=int, default=11, help="seed of the design draw (default: 11)")
-    ap.add_argument("--settings", default=DEFAULT_SETTINGS, help=f"DT_MS/ITERATIONS,... or reduced, the reduced "
-                    f"model's rung (default: {DEFAULT_SETTINGS})")
+    ap.add_argument("--settings", default=DEFAULT_SETTINGS, help=f"DT_MS/ITERATIONS,..., reduced (the reduced "
+                    f"model's rung) or reduced/DT_MS (that model at another step) (default: {DEFAULT_SETTINGS})")
     ap.add_argument("--jobs", type=int, default=1, help="processes (default: 1)")
     ap.add_argument("--near", metavar="CONFIG", help="draw the designs around this config's design")
     ap.add_argument("--spread", type=float, default=0.1, help="with --near: ± this fraction of each action range "

@@ -90,10 +90,11 @@ def test_step_agreement_scores_each_setting_against_the_reference_on_its_converg
     # a setting given as the reference's own step and iterations is the reference by another route: it must agree
     # on every converged design; the coarse one's misses are the designs it counts differently, each listed with
     # its count at every setting, and the agreement is taken over the designs reference/2 confirms
-    r = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "3", "--settings", "2/5,0.0625/120",
-               "--jobs", "2", "--json")
+    r = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "3", "--settings",
+               "2/5,0.0625/120,reduced,reduced/4,reduced/0.5", "--jobs", "2", "--json")
     rows = {row["setting"]: row for row in r["rows"]}
-    assert list(rows) == ["reference", "reference/2", "2/5", "0.0625/120"] and r["designs"] == 6
+    assert list(rows) == ["reference", "reference/2", "2/5", "0.0625/120", "reduced", "reduced/4", "reduced/0.5"]
+    assert r["designs"] == 6
     assert rows["0.0625/120"]["wrong"] == [] and rows["reference"]["agreement_converged"] == 1.0
     coarse = rows["2/5"]
     assert coarse["wrong"], "2 ms at 5 iterations should miss a design of this sample: pick another seed"
@@ -107,6 +108,21 @@ def test_step_agreement_scores_each_setting_against_the_reference_on_its_converg
                                                      r["converged_designs"])) and lo <= coarse["agreement_converged"] <= hi
     assert rows["reference"]["agreement_converged_interval_95"] is None is rows["reference/2"]["agreement_converged_interval_95"]
     assert "--settings: '2/x'" in _bench("step_agreement.py", "--settings", "2/x", expect=2)
+    # reduced/DT_MS is the reduced model at that step: at its preset's 4 ms it is the reduced rung itself; at 0.5 ms
+    # design 5 of this near sample counts 4 where the rung counts 7 (the reference's 7), each the model's own run
+    from aero_env.bench.designs import draw_designs
+    from aero_env.config import load_config
+    from aero_env.simulation import simulate
+
+    assert rows["reduced/4"]["wrong"] == rows["reduced"]["wrong"]
+    near = ("--near", PAPER, "--spread", "0.15")
+    five = _bench("step_agreement.py", PAPER, "--designs", "100", "--seed", "4", *near, "--only", "5", "--settings",
+                  "reduced,reduced/4,reduced/0.5", "--jobs", "2", "--json")["missed"]["5"]
+    cfg = draw_designs(load_config(PAPER), 100, 4, near=load_config(PAPER), spread=0.15).configs[5]
+    ours = {dt: simulate(cfg.replace({"sim.fidelity": "reduced", "sim.dt": dt})).traversals for dt in (0.004, 0.0005)}
+    assert five["reduced"] == five["reduced/4"] == ours[0.004] != five["reduced/0.5"] == ours[0.0005]
+    for bad in ("reduced/9", "reduced/x", "reduced/"):
+        assert f"--settings: '{bad}'" in _bench("step_agreement.py", "--settings", bad, expect=2)
     # --only runs those designs of the same sample, and only them: the counts the whole run listed
     some = ",".join(str(i) for i in coarse["wrong"])
     part = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "3", "--settings", "2/5", "--only", some,
