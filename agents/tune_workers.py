@@ -150,6 +150,10 @@ def stop_stray_heartbeats(timeout: float = 5.0) -> int:
     leaves skips the stop, and the thread beats on: the run printed its interrupt line, and then the process
     waited for that thread at exit, forever (seen once in about 25 interrupted tunes). Every trial's own
     thread has been stopped by the time :func:`run_trials` returns, so any still running here is such a stray.
+    A Ctrl-C inside ``Thread.start`` can also leave the thread not yet begun (listed, but ``join`` refuses it:
+    "cannot join thread before it is started": seen twice as an interrupted tune's traceback and exit status 1
+    in the real-Ctrl-C test): it is waited for to begin, then joined; one that never begins has its stop set
+    and is left, as it ends on its first look at it.
     """
     from optuna.storages._heartbeat import HeartbeatThread
 
@@ -158,7 +162,9 @@ def stop_stray_heartbeats(timeout: float = 5.0) -> int:
         # the thread's target and arguments (trial id, storage, stop event), as HeartbeatThread.start made it
         if getattr(thread, "_target", None) is HeartbeatThread._record_heartbeat:
             thread._args[2].set()
-            thread.join(timeout)
+            begun = getattr(thread, "_started", None)  # CPython's Event that Thread.start waits on
+            if begun is None or begun.wait(timeout):
+                thread.join(timeout)
             stopped += 1
     return stopped
 

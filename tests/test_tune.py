@@ -314,3 +314,23 @@ print("stopped", stop_stray_heartbeats(), flush=True)
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60,
                          cwd=Path(__file__).resolve().parent.parent)
     assert out.returncode == 0 and out.stdout.split("\n")[:2] == ["beat 7", "stopped 1"], out
+
+
+def test_a_heartbeat_a_ctrl_c_left_not_yet_begun_is_stopped_without_a_traceback():
+    """A Ctrl-C inside ``Thread.start`` (it waits for the new thread to begin) leaves a heartbeat thread listed but
+    not begun; ``join`` refuses such a thread with a RuntimeError, which ended an interrupted tune with a traceback
+    and exit status 1. Here the thread is left just so (listed as Thread.start lists it, its start never reached):
+    the cleanup sets its stop and goes on."""
+    script = """
+import threading
+from optuna.storages._heartbeat import HeartbeatThread
+from agents.tune_workers import stop_stray_heartbeats
+stop = threading.Event()
+t = threading.Thread(target=HeartbeatThread._record_heartbeat, args=(7, None, stop))
+threading._limbo[t] = t   # what Thread.start does before the new thread begins
+print("stopped", stop_stray_heartbeats(timeout=0.2), stop.is_set(), flush=True)
+del threading._limbo[t]
+"""
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60,
+                         cwd=Path(__file__).resolve().parent.parent)
+    assert out.returncode == 0 and out.stdout.split("\n")[:1] == ["stopped 1 True"], out
