@@ -72,13 +72,13 @@ DEFAULT_SETTINGS = "0.5/30,0.5/60,0.5/120,0.25/30,0.25/60,0.125/30,0.125/120"
 
 
 def parse_settings(text: str) -> list:
-    """``"0.5/30,0.25/60"`` -> [(0.0005 s, 30), (0.00025 s, 60)]; ``reduced`` stays the name of that rung (the
+    """``"0.5/30,0.25/60"`` -> [(0.0005 s, 30), (0.00025 s, 60)]; ``reduced`` -> ("reduced", None), that rung (the
     compiled reduced model at its preset), ``reduced/0.5`` -> ("reduced", 0.0005 s), that model at another step; a
     bad entry is one line naming it."""
     out = []
     for item in text.split(","):
         if item == "reduced":
-            out.append(item)
+            out.append(("reduced", None))
             continue
         if item.startswith("reduced/"):
             try:
@@ -104,20 +104,17 @@ def parse_settings(text: str) -> list:
 
 def setting_name(setting) -> str:
     """A setting's column name: ``reduced``, ``reduced/DT_MS`` or ``DT_MS/ITERATIONS``."""
-    if setting == "reduced":
-        return setting
     if setting[0] == "reduced":
-        return f"reduced/{setting[1] * 1e3:g}"
+        return "reduced" if setting[1] is None else f"reduced/{setting[1] * 1e3:g}"
     return f"{setting[0] * 1e3:g}/{setting[1]}"
 
 
 def setting_overrides(setting) -> dict:
     """What a setting sets in each design's config: the reduced rung's preset, or the pymunk world's step and
     iterations with one pymunk step per runner step."""
-    if setting == "reduced":
-        return fidelity_overrides("reduced")
     if setting[0] == "reduced":
-        return {**fidelity_overrides("reduced"), "sim.dt": setting[1]}
+        step = {} if setting[1] is None else {"sim.dt": setting[1]}
+        return {**fidelity_overrides("reduced"), **step}
     dt, iterations = setting
     return {"sim.dt": dt, "sim.iterations": iterations, "sim.substeps": 1}
 
@@ -129,7 +126,7 @@ def _run(job) -> tuple[int, str, int | None, float]:
     """One design at one setting: its traversal count (None: a build the world cannot assemble) and wall time."""
     i, name, cfg = job
     load_kernels()  # once per process, untimed
-    if name.startswith("reduced"):
+    if cfg is not None and cfg.sim.model == "reduced":
         reduced.compile_kernels()  # likewise: loaded from numba's cache once per process, untimed
     t0 = time.perf_counter()
     try:
