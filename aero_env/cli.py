@@ -18,7 +18,8 @@ and exit status 2 (argparse's own errors too: no usage block, a pointer to ``--h
 word the kind of slip (:func:`error_kind`: ``error:`` for an option, ``file error:`` for a file that
 cannot be read, ``config error:`` for a config key or value, ``missing package:`` for an extra the install
 left out); Ctrl-C
-ends with one line and exit status 130. Every option's help shows its default.
+ends with one line and exit status 130, and SIGTERM (a job scheduler's stop) as Ctrl-C does, with 143.
+Every option's help shows its default.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from importlib.metadata import PackageNotFoundError, entry_points, version
 from . import quantities
 from .config import ConfigError, MissingExtra, schema_rows
 from .scene_args import CSV_SUFFIXES, PLOT_SUFFIXES, check_output, load_scene
+from .signals import exit_status, signal_name, sigterm_as_interrupt
 
 __all__ = ["build_parser", "main"]
 
@@ -304,14 +306,15 @@ def error_kind(message: str) -> str:
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        return args.func(args)
+        with sigterm_as_interrupt():  # a scheduler's SIGTERM stops the command as Ctrl-C does
+            return args.func(args)
     except ConfigError as exc:
         kind = "missing package" if isinstance(exc, MissingExtra) else error_kind(str(exc))
         print(f"aero-env: {kind}: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:  # commands that keep something (tune, train) say what before this
-        print(f"aero-env {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as stop:  # commands that keep something (tune, train) say what before this
+        print(f"aero-env {args.command}: {signal_name(stop)}", file=sys.stderr)
+        return exit_status(stop)
     except BrokenPipeError:  # `aero-env schema | head`: the reader has what it wanted; no traceback
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # so the exit's flush cannot raise again
         return 141  # the shell's status for a process ended by SIGPIPE

@@ -12,6 +12,7 @@ from typing import Iterator
 
 import numpy as np
 
+from .files import save_figure, text_writer, write_atomically
 from .physics.run import TRACE_COLUMNS, SimResult
 
 
@@ -31,11 +32,14 @@ def write_trace_csv(result: SimResult, path: str | Path) -> None:
         raise ValueError("this result has no trace: simulate(..., trace=True)")
     cols = [result.trace[c] for c in TRACE_COLUMNS]
     writes = [TRACE_CSV_COLUMNS[c][1] for c in TRACE_COLUMNS]
-    with open(path, "w", newline="") as fh:
+
+    def rows(fh) -> None:
         w = csv.writer(fh)
         w.writerow([TRACE_CSV_COLUMNS[c][0] for c in TRACE_COLUMNS])
         for row in zip(*cols):
             w.writerow([int(v) if f is int else repr(f(float(v))) for f, v in zip(writes, row)])
+
+    write_atomically(path, text_writer(rows), "trace file")
 
 
 def plot_angles(result: SimResult, path: str | Path, title: str = "") -> None:
@@ -68,8 +72,10 @@ def plot_angles(result: SimResult, path: str | Path, title: str = "") -> None:
     ax2.set_xlabel("time [s]")
     ax2.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        save_figure(fig, path, dpi=110)
+    finally:
+        plt.close(fig)
 
 
 # 25 fps, not 30: a GIF stores each frame's delay in whole centiseconds, so 30 fps's 33.3 ms became 30 ms and every
@@ -227,4 +233,5 @@ def write_gif(result: SimResult, path: str | Path, fps: int = ANIMATION_FPS, lab
     frames = [Image.fromarray(f).quantize(palette=palette, dither=Image.Dither.NONE) for f in rgb]
     # the delay in whole centiseconds, as the GIF stores it (Pillow would truncate the rest silently)
     frame_ms = 10 * round(100 / fps)
-    frames[0].save(path, save_all=True, append_images=frames[1:], duration=frame_ms, loop=0)
+    write_atomically(path, lambda f: frames[0].save(f, format="GIF", save_all=True, append_images=frames[1:],
+                                                     duration=frame_ms, loop=0), "animation file")

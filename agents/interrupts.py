@@ -12,19 +12,18 @@ worker process it spawned. Three things then go wrong unless guarded against, ea
   first landing during the save at the end of training), leaving a truncated ``model.zip``; :class:`SigintOnce`
   raises KeyboardInterrupt for the first SIGINT only, holds every other while a save runs, and says so in one
   line;
-* a file cut half-way by the interrupt itself; :func:`write_atomically` writes a temporary file beside it and
-  renames it over the old one, so a reader sees the old file or the new one, never part of one.
+* a file cut half-way by the interrupt itself; :func:`aero_env.files.write_atomically` writes a temporary file
+  beside it and renames it over the old one, so a reader sees the old file or the new one, never part of
+  one.
 """
 
 from __future__ import annotations
 
 import contextlib
-import os
 import signal
 import sys
 import threading
-from pathlib import Path
-from typing import Callable, Iterator
+from typing import Iterator
 
 
 def _main_thread() -> bool:
@@ -99,18 +98,3 @@ class SigintOnce:
             yield
         finally:
             self._saving = False
-
-
-def write_atomically(path: str | Path, write: Callable) -> None:
-    """Write ``path`` through ``write(f)`` (``f`` a binary file) into a temporary file beside it, then rename it
-    over ``path``: a reader, or a run stopped half-way, finds the old file or the whole new one."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.part")
-    try:
-        with open(tmp, "wb") as f:
-            write(f)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)

@@ -47,9 +47,10 @@ from typing import Any, Mapping
 import numpy as np
 
 from aero_env.config import Config, ConfigError, MissingExtra, did_you_mean, from_dict, load_config
+from aero_env.files import write_atomically
 from aero_env.scene_args import MAX_SEED, check_output_dir
 
-from .interrupts import SigintOnce, children_ignore_sigint, write_atomically
+from .interrupts import SigintOnce, children_ignore_sigint
 from .options import ALGOS, check_choice, check_ints
 
 # Every step is a whole episode, so there is nothing to discount or bootstrap: gamma is moot and

@@ -57,6 +57,7 @@ import numpy as np
 
 from aero_env.config import Config
 from aero_env.design_space import DesignSpace
+from aero_env.files import save_figure, write_text_atomically
 
 from .design_eval import start_params
 from .study_faults import Reconnect, is_db_error, redact
@@ -276,7 +277,7 @@ def write_best_yaml(cfg: Config, result: TuneResult, path: str | Path) -> None:
     header = (f"# Tuned by `aero-env tune` ({result.sampler}, study {result.study!r}, trial {result.best_trial} "
               f"of {result.trials}{kept}):\n# mean reward {result.best_reward:.4g}, traversals {per} "
               f"{result.best_score['traversals']} of {result.full_row}.\n")
-    Path(path).write_text(header + best_config(cfg, result).to_yaml())
+    write_text_atomically(path, header + best_config(cfg, result).to_yaml(), "config file")
 
 
 def plot_history(result: TuneResult, path: str | Path, title: str = "") -> None:
@@ -284,8 +285,10 @@ def plot_history(result: TuneResult, path: str | Path, title: str = "") -> None:
     import matplotlib.pyplot as plt
 
     fig = history_figure(result, title)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        save_figure(fig, path, dpi=110)
+    finally:
+        plt.close(fig)
 
 
 def history_figure(result: TuneResult, title: str = ""):

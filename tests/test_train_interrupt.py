@@ -20,7 +20,8 @@ import zipfile
 import numpy as np
 import pytest
 
-from agents.interrupts import SigintOnce, write_atomically
+from aero_env.files import write_atomically
+from agents.interrupts import SigintOnce
 
 from .conftest import PAPER
 

@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..config import DEFAULT_FIDELITY, FIDELITY_PRESETS, Config, ConfigError
+from ..files import save_figure
 from ..intervals import interval_text, wilson_interval
 from ..physics.kernels import load_kernels
 from ..simulation import simulate
@@ -265,8 +266,10 @@ def plot_pareto(report: dict, path: str) -> None:
     import matplotlib.pyplot as plt
 
     fig = pareto_figure(report)
-    fig.savefig(path)
-    plt.close(fig)
+    try:
+        save_figure(fig, path)
+    finally:
+        plt.close(fig)
 
 
 def pareto_figure(report: dict):

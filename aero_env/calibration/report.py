@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..config import Config
+from ..files import save_figure, write_text_atomically
 from .fit import FitResult
 from .measured import MeasuredSwing
 from .swing_metrics import METRICS, SwingTrace
@@ -69,7 +70,7 @@ def write_config(cfg: Config, result: FitResult, doc: dict, path: str | Path) ->
     header = [f"# aero-env calibrate: fitted against {doc['reference']} (swing {doc['swing']}), "
               f"score {doc['score']:.4g} {doc['score_unit']}, {doc['trials']} trials ({doc['method']})"]
     header += [f"#   {k} = {v!r}" for k, v in result.fitted.items()]
-    Path(path).write_text("\n".join(header) + "\n" + fitted.to_yaml())
+    write_text_atomically(path, "\n".join(header) + "\n" + fitted.to_yaml(), "config file")
 
 
 # where a target is drawn in the plot: metric -> (axis, where on it)
@@ -108,8 +109,10 @@ def plot_fit(doc: dict, sw: SwingTrace | None, reference: MeasuredSwing | Target
         a.grid(alpha=0.3)
         a.legend(loc="lower right", fontsize=8, ncol=2)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        save_figure(fig, path, dpi=110)
+    finally:
+        plt.close(fig)
 
 
 def _plot_measured(ax, m: MeasuredSwing) -> None:

@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from ..config import Config
+from ..files import save_figure
 from ..models import quasi_static
 from .mbd import FALLBACK_ANGLE_DEG, mbd_swing
 from .three_models import analytical
@@ -112,5 +113,7 @@ def plot_domain_map(result: dict, path, prototype: tuple[float, float] | None = 
     fig.legend(handles, names, loc="lower center", ncol=4, fontsize=8, frameon=False)
     fig.suptitle("Where each model holds (the paper's Fig. 29, computed; the robot's parts and spring scaled with m2)")
     fig.tight_layout(rect=(0, 0.07, 1, 1))
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    try:
+        save_figure(fig, path, dpi=100)
+    finally:
+        plt.close(fig)

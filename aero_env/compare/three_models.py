@@ -14,6 +14,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..config import Config, ConfigError, pymunk_fidelities
+from ..files import save_figure
 from ..models import quasi_static, two_link
 from ..models.two_link import SwingResult
 from .mbd import FLIGHT_ENTERED, mbd_swing
@@ -140,5 +141,7 @@ def plot_comparison(runs: dict, path, title: str = "") -> None:
     fig.legend(handles, names, loc="lower center", ncol=3, fontsize=8, frameon=False)
     fig.suptitle(title or "quasi-static vs two-link vs MBD (dashed: with drag)")
     fig.tight_layout(rect=(0, 0.05, 1, 1))
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    try:
+        save_figure(fig, path, dpi=100)
+    finally:
+        plt.close(fig)

@@ -19,6 +19,7 @@ import time
 from pathlib import Path
 
 from ..config import Config, ConfigError
+from ..files import write_text_atomically
 from ..scene_args import add_seed
 
 DEFAULT_DRAWS = 50
@@ -149,7 +150,7 @@ def cmd_sheet(args) -> int:
     else:
         files = {out: markdown(cfg, args.config, args.draws, args.seed, progress=progress, compare=compare)}
     for path, text in files.items():
-        path.write_text(text)
+        write_text_atomically(path, text, "kit file")
     written = ", ".join(str(path) for path in reversed(files))
     print(f"wrote {written} in {time.perf_counter() - t0:.1f} s")
     return 0
