@@ -1,4 +1,5 @@
-"""Every file the project writes, written whole or not at all, and a failed write said in one line.
+"""Every file the project writes, written whole or not at all; a failed write, and a file that cannot be read back,
+said in one line.
 
 :func:`write_atomically` writes a temporary file beside the target, ``fsync``\\ s it and renames it over the target:
 a reader, or a run stopped half-way (Ctrl-C, SIGTERM, a full disk, a crash), finds the old file or the whole new
@@ -8,7 +9,8 @@ and that the old file is as it was; the command line prints it as a ``file error
 left behind: no temporary file, no 0-byte plot.
 
 The command line and the agents' commands write through here (plots, animations, traces, the kit, tuned and
-fitted configs, a training run's files), so a new writer should too.
+fitted configs, a training run's files), so a new writer should too. :func:`read_text` reads a text file a user
+names (a config, a measured trace) with the same one-line refusals: missing, a folder, unreadable, not text.
 """
 
 from __future__ import annotations
@@ -78,3 +80,20 @@ def save_figure(fig, path: str | os.PathLike, what: str = "plot file", **savefig
     """matplotlib's ``fig.savefig`` through :func:`write_atomically` (the format from ``path``'s suffix)."""
     fmt = Path(path).suffix.lstrip(".").lower() or None
     write_atomically(path, lambda f: fig.savefig(f, format=fmt, **savefig_kwargs), what)
+
+
+def read_text(path: str | os.PathLike, what: str, expected: str) -> str:
+    """The UTF-8 text of ``path``, or a ConfigError naming ``what`` (e.g. "config file", "--trace") and the file
+    when it is missing, a folder, unreadable or not text (a binary file, say), and ``expected`` what it should be
+    ("YAML (e.g. configs/paper.yaml)")."""
+    p = Path(path)
+    if p.is_dir():
+        raise ConfigError(f"{what} {str(p)!r}: is a folder; give {expected}")
+    if not p.is_file():
+        raise ConfigError(f"{what} {str(p)!r}: not found")
+    try:
+        return p.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise ConfigError(f"{what} {str(p)!r}: not a text file; expected {expected}") from None
+    except OSError as exc:
+        raise ConfigError(f"{what} {str(p)!r}: cannot be read ({exc.strerror or exc})") from None

@@ -399,7 +399,7 @@ def test_frame_own_moment_dT_enters_as_in_equation_1(paper_cfg):
     from aero_env import units
     from aero_env.models import quasi_static
 
-    cfg = paper_cfg.replace({"design.dT": 0.002})
+    cfg = paper_cfg.replace({"design.dT": 0.001})
     d = cfg.design
     frame = World(cfg).frames[0]
     b = frame.body

@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config import ConfigError
+from ..files import read_text
 
 TIME, THETA1, THETA2 = "t", "theta1_deg", "theta2_deg"
 TIME_S = "t_s"  # simulate --trace's time column (s from the run's start)
@@ -68,9 +69,7 @@ class MeasuredSwing:
 def load_measured(path: str | Path) -> MeasuredSwing:
     """Read and check a measured swing CSV."""
     p = Path(path)
-    if not p.is_file():
-        raise ConfigError(f"--trace {str(p)!r}: not found")
-    lines = [ln for ln in p.read_text().splitlines() if ln.strip()]
+    lines = [ln for ln in read_text(p, "--trace", f"a CSV with columns {TIME}, {THETA1}").splitlines() if ln.strip()]
     if not lines:
         raise ConfigError(f"--trace {str(p)!r}: empty; expected a header row with columns {TIME}, {THETA1}")
     reader = csv.DictReader(lines, dialect=_dialect(lines[0]))

@@ -53,7 +53,7 @@ from .loading import Config, from_dict, load_config, parse_override, read_yaml, 
 from .plausible import UnitSlipWarning, unit_slips, warn_unit_slips
 from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, SECTIONS, Design, Effects, EnvOptions, Scene, Sim, check_design,
                        pymunk_fidelities, real_field, real_keys, spec)
-from .validation import ConfigError, MissingExtra, check_value, check_values, did_you_mean
+from .validation import ConfigError, MissingExtra, check_value, check_values, did_you_mean, shown
 
 __all__ = [
     "CARD_PAIRS", "Config", "ConfigError", "ContextRange", "DEFAULT_CONTEXT", "DEFAULT_FIDELITY", "DEFAULT_TUNABLES", "Design",
@@ -61,5 +61,5 @@ __all__ = [
     "Tunable",
     "check_design", "check_value", "check_values", "did_you_mean", "from_dict", "linked_keys", "load_config", "parse_override",
     "pymunk_fidelities", "read_yaml", "real_field", "real_keys",
-    "schema_rows", "spec", "UnitSlipWarning", "unit_slips", "warn_unit_slips",
+    "schema_rows", "shown", "spec", "UnitSlipWarning", "unit_slips", "warn_unit_slips",
 ]

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field, fields
 from typing import Any, Mapping
 
 from .sections import real_field
-from .validation import ConfigError, check_value, unknown_key, with_unit
+from .validation import ConfigError, check_value, shown, unknown_key, with_unit
 
 
 def _item(doc: str, unit: str = "-", default: Any = None):
@@ -101,12 +101,13 @@ def build_list(section: str, data: Any) -> tuple:
     cls = LIST_SECTIONS[section]
     if not isinstance(data, (list, tuple)):
         raise ConfigError(f"{section}: must be a list of mappings with keys {[f.name for f in fields(cls)]}, "
-                          f"got {data!r}")
+                          f"got {shown(data)}")
     items, seen = [], set()
     for i, entry in enumerate(data):
         where = f"{section}[{i}]"
         if not isinstance(entry, Mapping):
-            raise ConfigError(f"{where}: must be a mapping with keys {[f.name for f in fields(cls)]}, got {entry!r}")
+            raise ConfigError(f"{where}: must be a mapping with keys {[f.name for f in fields(cls)]}, "
+                              f"got {shown(entry)}")
         allowed = {f.name for f in fields(cls)}
         extra = sorted(map(str, set(entry) - allowed))
         if extra:
@@ -147,7 +148,7 @@ def _tunable(entry, where, name, f) -> Tunable:
                           f"{f.metadata['hi']}]")
     scale = entry.get("scale", "linear")
     if scale not in ("linear", "log"):
-        raise ConfigError(f"{where}.scale = {scale!r}: must be one of ['linear', 'log']")
+        raise ConfigError(f"{where}.scale = {shown(scale)}: must be one of ['linear', 'log']")
     if scale == "log" and low <= 0:
         raise ConfigError(f"{where}.low = {low!r}: a log scale needs low > 0, allowed (0, {high})")
     step = _step(entry, where, name, f, low, high, relative_to)
@@ -161,10 +162,10 @@ def _step(entry, where, name, f, low, high, relative_to) -> float | None:
         return None
     step, _ = with_unit(f"{where}.step (a step of {name})", entry["step"], f.metadata["unit"])
     if isinstance(step, bool) or not isinstance(step, (int, float)) or not math.isfinite(step) or not step > 0:
-        raise ConfigError(f"{where}.step = {step!r}: must be a finite number > 0 in {name}'s unit "
+        raise ConfigError(f"{where}.step = {shown(step)}: must be a finite number > 0 in {name}'s unit "
                           f"({f.metadata['unit']}), e.g. 0.1 g")
     if relative_to is None and math.ceil(low / step - 1e-9) * step > high * (1 + 1e-12):
-        raise ConfigError(f"{where}.step = {step!r}: no multiple of it lies in [{low}, {high}]; allowed (0, "
+        raise ConfigError(f"{where}.step = {shown(step)}: no multiple of it lies in [{low}, {high}]; allowed (0, "
                           f"{high - low}]")
     return float(step)
 
@@ -177,14 +178,14 @@ def _chosen(entry, where, name, f) -> Tunable:
     linked = linked_keys(entry.get("linked"), where, name)
     rows = entry["choices"]
     if isinstance(rows, (str, bytes)) or not isinstance(rows, (list, tuple)) or len(rows) < 2:
-        raise ConfigError(f"{where}.choices = {rows!r}: must be a list of at least 2 choices, each a list of "
+        raise ConfigError(f"{where}.choices = {shown(rows)}: must be a list of at least 2 choices, each a list of "
                           f"{1 + len(linked)} numbers ({', '.join((name, *linked))})")
     keys = (name, *linked)
     out = []
     for j, row in enumerate(rows):
         if not isinstance(row, (list, tuple)) or len(row) != len(keys):
-            raise ConfigError(f"{where}.choices[{j}] = {row!r}: must be a list of {len(keys)} numbers, the values of "
-                              f"{', '.join(keys)}")
+            raise ConfigError(f"{where}.choices[{j}] = {shown(row)}: must be a list of {len(keys)} numbers, the "
+                              f"values of {', '.join(keys)}")
         out.append(tuple(check_value(f"{where}.choices[{j}][{k}] (a value of {key})", real_field(key, where), v)
                          for k, (key, v) in enumerate(zip(keys, row))))
     leaders = [row[0] for row in out]
@@ -193,7 +194,7 @@ def _chosen(entry, where, name, f) -> Tunable:
     low, high = min(leaders), max(leaders)
     for key in ("low", "high"):
         if entry.get(key) is not None and _bound(entry, key, where, name, f) != (low if key == "low" else high):
-            raise ConfigError(f"{where}.{key} = {entry[key]!r}: with choices it is the choices' "
+            raise ConfigError(f"{where}.{key} = {shown(entry[key])}: with choices it is the choices' "
                               f"{'least' if key == 'low' else 'greatest'} {name}, {low if key == 'low' else high!r} "
                               f"(or leave it out)")
     return Tunable(name, low, high, "linear", linked, None, None, tuple(out))
@@ -205,7 +206,7 @@ def linked_keys(linked: Any, where: str, name: str) -> tuple[str, ...]:
     if linked is None:
         return ()
     if isinstance(linked, str) or not isinstance(linked, (list, tuple)):
-        raise ConfigError(f"{where}.linked = {linked!r}: must be a list of dotted keys, e.g. [design.mu_k]")
+        raise ConfigError(f"{where}.linked = {shown(linked)}: must be a list of dotted keys, e.g. [design.mu_k]")
     for j, key in enumerate(linked):
         real_field(key, f"{where}.linked[{j}]")
         if key == name:
@@ -216,7 +217,7 @@ def linked_keys(linked: Any, where: str, name: str) -> tuple[str, ...]:
 def _factor(value: Any, where: str, relative_to: str) -> float:
     """A bound of a relative range: a plain finite number, a multiple of ``relative_to``'s value."""
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ConfigError(f"{where} = {value!r}: with relative_to {relative_to}, low and high are plain numbers "
+        raise ConfigError(f"{where} = {shown(value)}: with relative_to {relative_to}, low and high are plain numbers "
                           f"(multiples of {relative_to}'s value in the config, e.g. 0.75 and 1.35), not quantities")
     return float(value)
 
@@ -241,7 +242,7 @@ def _tolerance(entry, where, name, f) -> Tolerance:
         v, _ = with_unit(f"{where}.{key} (a tolerance of {name})", entry.get(key, 0.0), u)
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0.0 <= v <= hi) or not math.isfinite(v):
             in_unit = f" {u}" if u != "-" else ""
-            raise ConfigError(f"{where}.{key} = {v!r}: must be a finite number in [0, {hi}]{in_unit}")
+            raise ConfigError(f"{where}.{key} = {shown(v)}: must be a finite number in [0, {hi}]{in_unit}")
         out[key] = float(v)
     return Tolerance(name, **out)
 

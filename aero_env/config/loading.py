@@ -13,12 +13,13 @@ from typing import Any, Mapping
 
 import yaml
 
+from ..files import read_text
 from .design_problem import (DEFAULT_CONTEXT, DEFAULT_TUNABLES, LIST_SECTIONS, ContextRange, Tolerance, Tunable,
                              build_list)
 from .sections import (DEFAULT_FIDELITY, FIDELITY_PRESETS, REMOVED_FIDELITIES, SECTIONS, Design, EnvOptions, Scene,
                        Sim, check_design, check_sim, real_field)
 from .plausible import warn_unit_slips
-from .validation import ConfigError, build_section, check_value, did_you_mean, range_text
+from .validation import ConfigError, build_section, check_value, did_you_mean, range_text, shown
 
 
 @dataclass(frozen=True)
@@ -132,7 +133,7 @@ def from_dict(data: Mapping[str, Any] | None, overrides: Mapping[str, Any] | Non
     """Validate a plain mapping (as read from YAML) plus dotted overrides into a Config."""
     tree = _deep_copy(data or {})
     if not isinstance(tree, dict):
-        raise ConfigError(f"config: must be a mapping with sections {sorted(SECTIONS)}, got {data!r}")
+        raise ConfigError(f"config: must be a mapping with sections {sorted(SECTIONS)}, got {shown(data)}")
     for key, value in (overrides or {}).items():
         _set_dotted(tree, key, value)
     _apply_fidelity(tree, overrides or {})
@@ -267,23 +268,79 @@ def _mapping_names(root: yaml.Node) -> dict[int, str]:
     return names
 
 
+# What a YAML document may hold, once every alias is expanded. The stored configs nest at most 5 mappings and
+# sequences deep (the document, tunable, an entry, its choices, a choice) and hold at most 292 values (configs/);
+# a 300-byte "billion laughs" alias bomb expands to gigabytes, and a document nested thousands deep overflows
+# Python's stack, both before any check runs.
+MAX_YAML_DEPTH = 32
+MAX_YAML_NODES = 100_000
+
+
+class YamlTooBig(Exception):
+    """A YAML document nests too deep, its aliases expand it too far, or an alias holds itself
+    (:func:`check_yaml_shape`); the reader turns it into a ConfigError naming the file or ``--set`` value."""
+
+    def __init__(self, why: str, mark: yaml.Mark | None):
+        super().__init__(why)
+        self.why, self.mark = why, mark
+
+
+def check_yaml_shape(text: str) -> None:
+    """Raise :class:`YamlTooBig` where the document in ``text`` nests deeper than ``MAX_YAML_DEPTH`` or holds more
+    than ``MAX_YAML_NODES`` nodes with its aliases expanded, or has an alias inside the node it names (a recursive
+    structure). Read from the parser's events, which build nothing and recurse nowhere: the document is measured
+    before PyYAML builds it (which recurses once per level) or anything copies or prints it (once per alias)."""
+    anchored: dict[str, tuple[int, int]] = {}  # anchor -> (nodes, depth) of the node it names, aliases expanded
+    stack: list[list] = []  # each open mapping or sequence: [anchor, its nodes so far, its depth so far]
+    total = 0
+    for event in yaml.parse(text, Loader=yaml.SafeLoader):
+        if isinstance(event, yaml.CollectionStartEvent):
+            total += 1
+            stack.append([event.anchor, 1, 1])
+            if len(stack) > MAX_YAML_DEPTH:
+                raise YamlTooBig(f"nested more than {MAX_YAML_DEPTH} levels deep (a config nests 5)", event.start_mark)
+            continue
+        if isinstance(event, yaml.CollectionEndEvent):
+            anchor, nodes, depth = stack.pop()
+            if anchor is not None:
+                anchored[anchor] = (nodes, depth)
+        elif isinstance(event, yaml.ScalarEvent):
+            nodes, depth = 1, 0  # depth: how many mappings and sequences nest in a node, itself included
+            if event.anchor is not None:
+                anchored[event.anchor] = (1, 0)
+            total += 1
+        elif isinstance(event, yaml.AliasEvent):
+            if any(entry[0] == event.anchor for entry in stack):
+                raise YamlTooBig(f"the alias *{event.anchor} lies inside the node &{event.anchor} names: a structure "
+                                 f"that holds itself", event.start_mark)
+            nodes, depth = anchored.get(event.anchor, (0, 0))  # an unknown anchor: PyYAML's own error names it
+            total += nodes
+        else:
+            continue
+        if total > MAX_YAML_NODES:
+            raise YamlTooBig(f"its aliases expand it to more than {MAX_YAML_NODES:,} values (a config holds a few "
+                             f"hundred)", event.start_mark)
+        if stack:  # the node just finished belongs to the innermost open one
+            parent = stack[-1]
+            parent[1] += nodes
+            parent[2] = max(parent[2], depth + 1)
+            if len(stack) - 1 + parent[2] > MAX_YAML_DEPTH:
+                raise YamlTooBig(f"nested more than {MAX_YAML_DEPTH} levels deep once its aliases are expanded (a "
+                                 f"config nests 5)", event.start_mark)
+
+
 def read_yaml(path: str | Path, what: str) -> Any:
     """The YAML document in ``path`` (None for an empty file); a one-line ConfigError naming ``what`` (e.g.
     "config file") and the file when it is missing, a folder, unreadable or not YAML (with the line), or when a
     mapping in it names a key twice (both lines)."""
     p = Path(path)
-    if p.is_dir():
-        raise ConfigError(f"{what} {str(p)!r}: is a folder; give a YAML file (e.g. configs/paper.yaml)")
-    if not p.is_file():
-        raise ConfigError(f"{what} {str(p)!r}: not found")
+    text = read_text(p, what, "a YAML file (e.g. configs/paper.yaml)")
     try:
-        text = p.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
-        raise ConfigError(f"{what} {str(p)!r}: not a text file; expected YAML") from None
-    except OSError as exc:
-        raise ConfigError(f"{what} {str(p)!r}: cannot be read ({exc.strerror or exc})") from None
-    try:
+        check_yaml_shape(text)
         return yaml.load(text, Loader=UniqueKeyLoader)
+    except YamlTooBig as big:
+        where = f", line {big.mark.line + 1}" if big.mark is not None else ""
+        raise ConfigError(f"{what} {str(p)!r}{where}: {big.why}") from None
     except DuplicateKey as dup:
         where = f"in {dup.mapping!r}" if dup.mapping else "at the top level"
         raise ConfigError(f"{what} {str(p)!r}, line {dup.again.line + 1}: key {dup.key!r} appears twice {where} "
@@ -338,7 +395,10 @@ def parse_override(text: str) -> tuple[str, Any]:
         raise ConfigError(f"--set {text!r}: expected KEY=VALUE, e.g. design.m2=0.008")
     key, raw = text.split("=", 1)
     try:
+        check_yaml_shape(raw)
         value = yaml.load(raw, Loader=UniqueKeyLoader)
+    except YamlTooBig as big:
+        raise ConfigError(f"--set {shown(text)}: {big.why}") from None
     except DuplicateKey as dup:
         inner = dup.mapping if dup.mapping.startswith("[") or not dup.mapping else f".{dup.mapping}"
         raise ConfigError(f"--set {text!r}: key {dup.key!r} appears twice in {key.strip() + inner!r} (at "

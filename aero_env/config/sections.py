@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 from dataclasses import dataclass, field, fields
 from types import MappingProxyType
 from typing import Any, Mapping
@@ -16,6 +17,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..inertia import min_Ld, torso_build
+from ..parts import build
 from ..units import GRAVITY
 from .validation import ConfigError, did_you_mean
 
@@ -70,8 +72,10 @@ class Design:
     stop_angle_deg: float = spec(180.0, "deg", "frame angle theta1 at the end stop", -90.0, 270.0)
     notch_angle_deg: float = spec(64.73, "deg", "handrail notch bisector direction (world) at the rest angle", -180.0, 180.0)
     notch_opening_deg: float = spec(90.0, "deg", "angle between the handrail notch's two faces", 30.0, 150.0)
-    notch_back_face: float = spec(0.00572, "m", "handrail notch face that rises toward the back (at rest)", 0.0, 0.1, lo_open=True)
-    notch_front_face: float = spec(0.01095, "m", "handrail notch face that rises toward the front (at rest)", 0.0, 0.1, lo_open=True)
+    # a face at least 0.1 mm long: a shorter one is no card the hook can touch, and its segment in the engine
+    # (corner + face x direction) rounds to a point, a zero-length segment the world cannot build
+    notch_back_face: float = spec(0.00572, "m", "handrail notch face that rises toward the back (at rest)", 1e-4, 0.1)
+    notch_front_face: float = spec(0.01095, "m", "handrail notch face that rises toward the front (at rest)", 1e-4, 0.1)
     handrail_thickness: float = spec(0.001, "m", "card thickness of the handrail faces", 0.0, 0.01, lo_open=True)
     hook_radius: float = spec(0.001, "m", "radius of the arm tip's contact edge", 0.0, 0.01, lo_open=True)
     Cd: float = spec(1.05, "-", "drag coefficient (drag effect)", 0.0, 10.0)
@@ -239,6 +243,24 @@ _DESIGN_RULES = (
      lambda d, at: f"design.dT{at} = {d.dT!r}: the frame's own moment would put its centre of mass beyond its "
                    f"ends, allowed [{-d.m1 * GRAVITY * max(d.La, d.Lb):.3g}, {d.m1 * GRAVITY * max(d.La, d.Lb):.3g}] "
                    f"N·m (m1·g·max(La, Lb) with design.m1 = {d.m1!r}, design.La = {d.La!r}, design.Lb = {d.Lb!r})"),
+    (lambda d: np.abs(d.dT) > frame_moment_limit(d),
+     lambda d, at: f"design.dT{at} = {d.dT!r}: would put the frame card's centre of mass "
+                   f"{1e3 * abs(d.dT) / (d.m1 * GRAVITY):.3g} mm from its axis, beyond the side cards' radius of "
+                   f"gyration about it ({1e3 * math.sqrt(build.frame_card_inertia(d) / d.m1):.3g} mm with design.m1 = "
+                   f"{d.m1!r}, design.La = {d.La!r}, design.Lb = {d.Lb!r}): no card has its centre that far out, "
+                   f"allowed [{-frame_moment_limit(d):.3g}, {frame_moment_limit(d):.3g}] N·m"),
+    (lambda d: d.m1 < build.lightest_plate(build.side_card_length(d)) * 2.0,
+     lambda d, at: f"design.m1{at} = {d.m1!r}: lighter than two side cards of one layer as wide as their "
+                   f"{build.HOLE_D * 1e3:g} mm skewer hole, {1e3 * build.side_card_length(d):.4g} mm long "
+                   f"(design.La = {d.La!r}, design.Lb = {d.Lb!r}): no frame can be cut so light, allowed "
+                   f"[{2.0 * build.lightest_plate(build.side_card_length(d)):.4g}, "
+                   f"{Design.__dataclass_fields__['m1'].metadata['hi']:g}] kg"),
+    (lambda d: d.arm_mass < build.lightest_plate(build.arm_net_length(d)),
+     lambda d, at: f"design.arm_mass{at} = {d.arm_mass!r}: lighter than an arm of one layer as wide as its "
+                   f"{build.HOLE_D * 1e3:g} mm axle hole over its {1e3 * build.arm_net_length(d):.4g} mm net "
+                   f"(design.arm_length = {d.arm_length!r} with the hole's end and the hook's lip): no arm can be cut "
+                   f"so light, allowed [{build.lightest_plate(build.arm_net_length(d)):.4g}, "
+                   f"{Design.__dataclass_fields__['arm_mass'].metadata['hi']:g}] kg"),
     (lambda d: d.Ld < min_Ld(d.arm_length, d.alpha_max_deg, d.coin_radius),
      lambda d, at: f"design.Ld{at} = {d.Ld!r}: the torso below the axle must hold the coins (2 x "
                    f"design.coin_radius = {d.coin_radius!r}) with design.arm_length = {d.arm_length!r} at "
@@ -251,7 +273,32 @@ _DESIGN_RULES = (
                    f"{d.arm_mass + d.coin_mass + d.handrail_mass:.6g} kg (the torso card is the rest), allowed "
                    f"({d.arm_mass + d.coin_mass + d.handrail_mass:.6g}, "
                    f"{Design.__dataclass_fields__['m2'].metadata['hi']:g}] kg"),
+    (lambda d: d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass < lightest_torso_card(d),
+     lambda d, at: f"design.m2{at} = {d.m2!r}: leaves {1e3 * (d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass):.4g} "
+                   f"g of torso card after design.arm_mass = {d.arm_mass!r}, design.coin_mass = {d.coin_mass!r} and "
+                   f"design.handrail_mass = {d.handrail_mass!r}, less than one layer as wide as its "
+                   f"{build.HOLE_D * 1e3:g} mm axle hole over its {1e3 * torso_card_length(d):.4g} mm (design.Ld = "
+                   f"{d.Ld!r}, design.arm_length = {d.arm_length!r}, design.alpha_max_deg = {d.alpha_max_deg!r}): no "
+                   f"torso can be cut so light, allowed "
+                   f"[{d.arm_mass + d.coin_mass + d.handrail_mass + lightest_torso_card(d):.6g}, "
+                   f"{Design.__dataclass_fields__['m2'].metadata['hi']:g}] kg"),
 )
+
+
+def frame_moment_limit(d):
+    """The largest frame moment (N·m) whose centre of mass lies within the side cards' radius of gyration about the
+    axis: a body's centre is never farther from an axis than that (its own inertia, I1 - m1·x², is not negative)."""
+    return GRAVITY * np.sqrt(d.m1 * build.frame_card_inertia(d))
+
+
+def torso_card_length(d):
+    """The torso card's length (m), its bottom Ld from the hook at alpha_max (:func:`aero_env.inertia.torso_build`)."""
+    return build.torso_net_length(torso_build(d.Ld, d.arm_length, d.alpha_max_deg, d.coin_radius)[0])
+
+
+def lightest_torso_card(d):
+    """The least card a torso can be (kg): :func:`aero_env.parts.build.lightest_plate` of its length."""
+    return build.lightest_plate(torso_card_length(d))
 
 
 class _Entry:

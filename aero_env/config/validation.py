@@ -9,13 +9,50 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
+import itertools
 import math
+import reprlib
 from dataclasses import fields
 from typing import Any, Mapping
 
 import numpy as np
 
 from .. import quantities
+
+
+class _ShortRepr(reprlib.Repr):
+    """``repr`` cut short: a handful of items per list or mapping, a few levels deep, 60 characters of a string;
+    a mapping in its own order (reprlib sorts one). What a short value prints is ``repr``'s own text."""
+
+    def __init__(self):
+        super().__init__()
+        self.maxlevel, self.maxlist, self.maxtuple, self.maxdict, self.maxset = 3, 8, 8, 6, 6
+        self.maxstring, self.maxother, self.maxlong = 60, 60, 40
+
+    def repr_dict(self, x, level):
+        if not x:
+            return "{}"
+        if level <= 0:
+            return "{...}"
+        items = [f"{self.repr1(k, level - 1)}: {self.repr1(v, level - 1)}"
+                 for k, v in itertools.islice(x.items(), self.maxdict)]
+        return "{" + ", ".join(items) + (", ..." if len(x) > self.maxdict else "") + "}"
+
+
+_SHORT = _ShortRepr()
+SHOWN_MAX = 120  # characters of a value a message prints at most
+
+
+def shown(value: Any) -> str:
+    """``repr(value)`` for a message, never longer than about ``SHOWN_MAX``: a value as big as a YAML alias bomb
+    makes it (or a megabyte string) would make a message of gigabytes. A value cut short says its size."""
+    text = _SHORT.repr(value)
+    if len(text) > SHOWN_MAX:
+        text = text[:SHOWN_MAX - 3] + "..."
+    most = {str: _SHORT.maxstring, list: _SHORT.maxlist, tuple: _SHORT.maxtuple, dict: _SHORT.maxdict}.get(type(value))
+    if most is not None and len(value) > most:
+        text += f" ({len(value):,} {'characters' if isinstance(value, str) else 'items'})"
+    return text
 
 
 class ConfigError(ValueError):
@@ -44,32 +81,33 @@ def check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
     typ = f.type if isinstance(f.type, type) else {"float": float, "int": int, "bool": bool, "str": str}.get(f.type)
     if typ is bool:
         if not isinstance(value, bool):
-            raise ConfigError(f"{path} = {value!r}: must be true or false")
+            raise ConfigError(f"{path} = {shown(value)}: must be true or false")
         return value
     if typ is str:
         if not isinstance(value, str) or (meta["choices"] and value not in meta["choices"]):
-            raise ConfigError(f"{path} = {value!r}: must be one of {list(meta['choices'])}")
+            raise ConfigError(f"{path} = {shown(value)}: must be one of {list(meta['choices'])}")
         return value
     raw = value
     value, plain = with_unit(path, value, meta["unit"])
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         units = quantities.units_for(meta["unit"])
         with_units = f", optionally with a unit ({', '.join(units)})" if len(units) > 1 else ""
-        raise ConfigError(f"{path} = {value!r}: must be a number ({typ.__name__}) in {range_text(meta)}{with_units}")
-    shown = repr(value) if plain else f"{raw!r} (= {value:.6g} {meta['unit']})"
+        raise ConfigError(f"{path} = {shown(value)}: must be a number ({typ.__name__}) in "
+                          f"{range_text(meta)}{with_units}")
+    text = repr(value) if plain else f"{shown(raw)} (= {value:.6g} {meta['unit']})"
     if typ is int:
         if isinstance(value, float) and not value.is_integer():
-            raise ConfigError(f"{path} = {shown}: must be a whole number in {range_text(meta)}")
+            raise ConfigError(f"{path} = {text}: must be a whole number in {range_text(meta)}")
         value = int(value)
     else:
         value = float(value)
     if plain:
-        shown = repr(value)
+        text = repr(value)
     if not math.isfinite(value):
-        raise ConfigError(f"{path} = {shown}: must be finite, in {range_text(meta)}")
+        raise ConfigError(f"{path} = {text}: must be finite, in {range_text(meta)}")
     if not in_range(meta, value):
         hint = quantities.smaller_unit_hint(value, meta["unit"], lambda v: in_range(meta, v)) if plain else ""
-        raise ConfigError(f"{path} = {shown}: out of range, allowed {range_text(meta)}{hint}")
+        raise ConfigError(f"{path} = {text}: out of range, allowed {range_text(meta)}{hint}")
     return value
 
 
@@ -102,7 +140,7 @@ def with_unit(path: str, value: Any, unit: str) -> tuple[Any, bool]:
     try:
         number = quantities.parse(value, unit)
     except quantities.UnitError as exc:
-        raise ConfigError(f"{path} = {value!r}: {exc}") from None
+        raise ConfigError(f"{path} = {shown(value)}: {exc}") from None
     if number is None:
         return value, True
     try:
@@ -145,7 +183,7 @@ def build_section(cls, data: Any, path: str):
     if data is None:
         data = {}
     if not isinstance(data, Mapping):
-        raise ConfigError(f"{path}: must be a mapping of keys to values, got {data!r}")
+        raise ConfigError(f"{path}: must be a mapping of keys to values, got {shown(data)}")
     known = {f.name: f for f in fields(cls)}
     unknown = sorted(map(str, set(data) - set(known)))
     derived = getattr(cls, "DERIVED", {})

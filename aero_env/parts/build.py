@@ -79,12 +79,26 @@ def hole_area():
     return math.pi * (HOLE_D / 2) ** 2
 
 
+def lightest_plate(length):
+    """kg: the least card a plate ``length`` long with a hole in it can be, one layer exactly as wide as the hole
+    (narrower, the hole cuts it in two: no part, and a model of it whose inertia about its centre can come out
+    negative). The config refuses a lighter part (:mod:`aero_env.config.sections`); the kit warns from a little
+    wider, where scissors need card around the hole (``kit.NARROWEST``)."""
+    return GRAMMAGE * (HOLE_D * length - hole_area())
+
+
 # ---- the swing frame ------------------------------------------------------------------------------------------
+def side_card_length(d: Design):
+    """A side card's length (m): symmetric about its hole, ``END`` past the farther of the seat and the
+    counterbalance."""
+    return 2.0 * (np.maximum(d.La, d.Lb) + END)
+
+
 def side_card(d: Design) -> dict:
     """One of a frame's two side cards: ``half_length`` (hole to each end), ``depth``, ``layers``, ``mass``
     and ``I_axis`` (about the skewer, which is its centre). Both cards together weigh m1."""
-    half = np.maximum(d.La, d.Lb) + END
-    length = 2.0 * half
+    length = side_card_length(d)
+    half = length / 2.0
     mass = d.m1 / 2.0
     card = mass / GRAMMAGE  # m² of card over all layers, the hole's card already gone
     layers, depth_hole = laminate(card, length, FRAME_DEPTH_MAX)
@@ -117,10 +131,15 @@ def counterbalance_load(m3) -> dict:
 
 
 # ---- the robot ---------------------------------------------------------------------------------------------------
+def arm_net_length(d: Design):
+    """The arm's net (m): ``END`` behind the axle hole to the hook, and the lip unfolded."""
+    return END + d.arm_length + HOOK_LIP
+
+
 def arm_plate(d: Design) -> dict:
     """The arm: ``layers``, ``width`` across, ``start`` (behind the axle, negative) and ``tip`` along the arm
     from the axle, ``mass``, ``com`` (along the arm from the axle) and ``I_com`` (about its centre)."""
-    length = END + d.arm_length + HOOK_LIP  # the net, the lip unfolded
+    length = arm_net_length(d)
     card = d.arm_mass / GRAMMAGE
     layers, _ = laminate(card, length, ARM_WIDTH_MAX)
     width = (card / layers + hole_area()) / length
@@ -143,10 +162,15 @@ def torso_card_mass(d: Design):
     return d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass
 
 
+def torso_net_length(torso_length):
+    """The torso card's length (m): ``END`` above its axle hole to its bottom edge, ``torso_length`` below it."""
+    return END + torso_length
+
+
 def torso_plate(d: Design, torso_length) -> dict:
     """The torso's card plate, ``torso_length`` (axle to bottom edge) given: ``layers``, ``width``, ``mass``,
     ``com`` (below the axle) and ``I_com`` (about its own centre, in the plane)."""
-    length = END + torso_length
+    length = torso_net_length(torso_length)
     card = torso_card_mass(d) / GRAMMAGE
     layers, _ = laminate(card, length, TORSO_WIDTH_MAX)
     width = (card / layers + hole_area()) / length

@@ -12,8 +12,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import pymunk
+
 from .. import units
-from ..config import Config
+from ..config import Config, ConfigError
 from ..inertia import RobotParts, frame_inertia, spring_damping_coefficient
 from .swing_rules import held_past_angle
 
@@ -122,3 +124,17 @@ def to_engine(cfg: Config) -> EngineParams:
         max_speed=sim.max_speed * units.VELOCITY,
         catch_seat=sim.catch_seat * L, min_release_height=sim.min_release_height * L,
     )
+
+
+def rigid_body(mass: float, moment: float, part: str, fields: str) -> pymunk.Body:
+    """A pymunk body of ``mass`` and ``moment`` (engine units, about its centre of gravity), both checked first.
+
+    Chipmunk aborts the whole process (SIGABRT, which Python cannot catch: a training run or a tuning worker dies
+    with it) on a mass or moment that is not positive. The config's cross-checks refuse every design whose parts
+    cannot be cut (:mod:`aero_env.config.sections`), so this is the last guard, not the rule: a body that still
+    comes out so is refused in one line naming the ``part`` and the design ``fields`` it is made from."""
+    if not (math.isfinite(mass) and mass > 0.0 and math.isfinite(moment) and moment > 0.0):
+        raise ConfigError(f"design ({fields}): the {part} comes out with mass {mass / units.MASS:.4g} kg and "
+                          f"inertia {moment / units.INERTIA:.4g} kg·m² about its centre; a body needs both positive "
+                          f"and finite")
+    return pymunk.Body(mass, moment)

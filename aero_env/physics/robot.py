@@ -22,7 +22,7 @@ from typing import NamedTuple
 import pymunk
 
 from ..inertia import part_layout
-from .engine_params import EngineParams
+from .engine_params import EngineParams, rigid_body
 from .swing_frame import HOOK, coulomb_friction
 
 _ROBOT = pymunk.ShapeFilter(group=2)
@@ -39,9 +39,9 @@ class RobotMeasure(NamedTuple):
 class Robot:
     def __init__(self, p: EngineParams):
         self.p = p
-        self.torso = pymunk.Body(p.m_torso, p.I_torso)
+        self.torso = rigid_body(p.m_torso, p.I_torso, "torso", "design.m2, design.coin_mass, design.Ld")
         self.torso.center_of_gravity = (0.0, -p.torso_com)
-        self.arm = pymunk.Body(p.m_arm, p.I_arm)
+        self.arm = rigid_body(p.m_arm, p.I_arm, "arm", "design.arm_mass, design.arm_length")
         self.arm.center_of_gravity = (p.arm_com, 0.0)
         self.hook_local = pymunk.Vec2d(p.arm_length, 0.0)
         self.tip = pymunk.Circle(self.arm, p.hook_radius, self.hook_local)
@@ -140,7 +140,7 @@ class RigidRobot:
 
     def __init__(self, p: EngineParams):
         self.p = p
-        self.body = pymunk.Body(p.m_robot, p.I2)
+        self.body = rigid_body(p.m_robot, p.I2, "rigid robot", "design.m2, design.Ld, design.arm_length")
         self.body.center_of_gravity = (-p.Lc, 0.0)  # local +x points from the centre to the hook
         self.hook_local = pymunk.Vec2d(0.0, 0.0)
         self.alpha = math.nan

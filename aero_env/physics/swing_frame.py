@@ -24,7 +24,7 @@ import math
 
 import pymunk
 
-from .engine_params import EngineParams
+from .engine_params import EngineParams, rigid_body
 
 HOOK = 1  # collision types
 HANDRAIL = 2
@@ -47,12 +47,12 @@ class SwingFrame:
         # frame card (its centre where dT puts it), counterbalance at (La, h), handrail card at the seat
         m = p.m_frame + p.m_cb + p.m_handrail
         cog = pymunk.Vec2d((p.m_frame * p.frame_com_x + p.m_cb * p.La - p.m_handrail * p.Lb) / m, p.m_cb * p.h / m)
-        body = pymunk.Body(m, 1.0)
-        # Order matters in pymunk: centre of gravity, then angle, then position (angle turns about the cog).
-        body.center_of_gravity = cog
         # I1 is the frame card's inertia about the axis whatever dT says (dT moves its centre, not I1)
         I_axis = p.I_frame_axis + p.m_cb * (p.La**2 + p.h**2) + p.m_handrail * p.Lb**2
-        body.moment = I_axis - m * cog.length_squared
+        body = rigid_body(m, I_axis - m * cog.length_squared, "swing frame",
+                          "design.m1, design.dT, design.m3, design.La, design.Lb")
+        # Order matters in pymunk: centre of gravity, then angle, then position (angle turns about the cog).
+        body.center_of_gravity = cog
         body.angle = p.rest_angle
         body.position = self.axis
         self.body = body
