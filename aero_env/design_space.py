@@ -30,7 +30,7 @@ from typing import Mapping
 
 import numpy as np
 
-from .config import Config, ConfigError
+from .config import Config, ConfigError, check_value, real_field
 
 EXHAUSTIVE_CORNERS = 12  # up to 2**12 corners are all checked; beyond, a fixed sample of 4096
 
@@ -170,7 +170,10 @@ class DesignSpace:
                 raise ConfigError(f"action_for: {key!r} cannot be chosen, {why}; tunable fields: {sorted(tuned)}")
         a = np.empty(self.dim, dtype=dtype)
         for i, (t, (low, high)) in enumerate(zip(self.tunables, self.ranges)):
-            v = float(values.get(t.name, self.cfg.value(t.name)))
+            # a value given here is read as the config reads one (a unit allowed: "7.2 g"), so NaN, None or a list
+            # is refused in one line naming the field, before any arithmetic
+            v = (check_value(t.name, real_field(t.name, "action_for"), values[t.name]) if t.name in values
+                 else float(self.cfg.value(t.name)))
             if t.choices:  # the middle of the choice's bin
                 leaders = [row[0] for row in t.choices]
                 if v not in leaders:

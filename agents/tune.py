@@ -346,7 +346,9 @@ def _design_line(key: str, value: float, cfg: Config | None) -> str:
 
 
 def summary_lines(result: TuneResult, cfg: Config | None = None) -> list[str]:
-    """The tune's report; with the tuned ``cfg``, each best value also as a maker reads it."""
+    """The tune's report; with the study's ``cfg``, each best value also as a maker reads it (in the tuned design,
+    where a card pair's mu_k is the pair's own, not the study config's ratio)."""
+    tuned = None if cfg is None else best_config(cfg, result)
     first = ("no trial traversed the whole row" if result.first_full_row_trial is None
              else f"the whole row first at trial {result.first_full_row_trial}")
     if (result.first_full_row_trial is None and result.start_trial is not None
@@ -361,7 +363,7 @@ def summary_lines(result: TuneResult, cfg: Config | None = None) -> list[str]:
     if compared:
         lines.append(compared)
     lines.append("best design:")
-    lines += [_design_line(k, v, cfg) for k, v in result.best_design.items()]
+    lines += [_design_line(k, v, tuned) for k, v in result.best_design.items()]
     if result.screen:
         s = result.screen
         lines.insert(1, f"screened {s['designs']} designs at fidelity {s['fidelity']} in {s['wall_time']:.1f} s "

@@ -13,14 +13,15 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from ..config import Config, ConfigError, load_config, pymunk_fidelities, warn_unit_slips
+from ..config import Config, ConfigError, load_config, pymunk_fidelities, shown, warn_unit_slips
 from ..design_space import DesignSpace, Draw
 from ..physics import SimResult, World
 from ..reward import reward  # the one reward function: the tuner's screen scores with it too
 from ..simulation import simulate
 from ..render import ANIMATION_FPS, Canvas, draw_frames, draw_summary, iter_frames, pose_interval
 
-__all__ = ["AerialAcrobatEnv", "Episode", "chosen_design", "plan_episode", "episode_info", "reset_info"]
+__all__ = ["AerialAcrobatEnv", "Episode", "check_reset_options", "chosen_design", "plan_episode", "episode_info",
+           "reset_info"]
 
 
 # ---- the pieces of an episode, shared with the vector env (aerial_acrobat_vector.py) so the two cannot drift ----
@@ -51,6 +52,20 @@ def plan_episode(space: DesignSpace, draw: Draw, action, clip: bool) -> Episode:
     design = chosen_design(space, action, clip)
     values, built = space.episode_values(design, draw)
     return Episode(space.cfg, values, design, built)
+
+
+def check_reset_options(options: Any, known: tuple[str, ...] = ()) -> dict:
+    """``reset``'s ``options`` as a dict (None: empty), or a ConfigError naming what is wrong: not a mapping, or a
+    key this env does not read (``known``), which would otherwise be ignored without a word."""
+    if options is None:
+        return {}
+    if not isinstance(options, Mapping):
+        raise ConfigError(f"reset(options={shown(options)}): must be a dict or None")
+    unknown = [k for k in options if k not in known]
+    if unknown:
+        reads = f"it reads {', '.join(map(repr, known))}" if known else "it reads none"
+        raise ConfigError(f"reset(options=...): {shown(unknown[0])} is not an option of this env ({reads})")
+    return dict(options)
 
 
 def reset_info(draw: Draw) -> dict:
@@ -322,6 +337,7 @@ class AerialAcrobatEnv(gym.Env):
 
     # ---- Gymnasium API ----
     def reset(self, *, seed: int | None = None, options: dict | None = None):
+        check_reset_options(options)
         super().reset(seed=seed)
         self._draw = self.space.draw(self.np_random)
         self.last_run = None

@@ -21,7 +21,7 @@ from ..design_space import DesignSpace, Draw
 from ..process_pool import worker_pool
 from ..reward import reward
 from ..simulation import simulate
-from .aerial_acrobat import Episode, env_config, episode_info, plan_episode, reset_info
+from .aerial_acrobat import Episode, check_reset_options, env_config, episode_info, plan_episode, reset_info
 from .vector_info import batch_infos, batch_runs, scatter_infos, stack_columns, stack_infos
 
 __all__ = ["AerialAcrobatVectorEnv", "MAX_NUM_ENVS", "POOL_START_METHOD"]
@@ -374,7 +374,7 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
         return seeds
 
     def _reset_mask(self, options) -> np.ndarray:
-        mask = (options or {}).get("reset_mask")
+        mask = check_reset_options(options, ("reset_mask",)).get("reset_mask")
         if mask is None:
             return np.ones(self.num_envs, dtype=np.bool_)
         mask = np.asarray(mask)

@@ -49,14 +49,15 @@ def laminate(piece) -> str:
 
 def workbench(key: str, value: float, cfg: Config) -> str:
     """A tuned value as a maker reads it: a length in mm, a mass in g (m3 and the coins as whole one-yen coins and
-    clay), a friction as the nearest measured card pair, a spring in N·mm/rad; "" for a value with no such reading."""
+    clay), a friction as the nearest measured card pair, a spring in N·mm/rad; "" for a value with no such reading.
+    ``cfg`` is the design ``value`` belongs to: a friction is read with its own mu_k."""
     from ..config.sections import real_field
 
     unit = real_field(key, "workbench").metadata["unit"]
     if key in ("design.m3", "design.coin_mass"):
         return coins_and_clay(value)
     if key == "design.mu_s":
-        pair, off = card_pair(value, cfg.design.mu_k * value / cfg.design.mu_s)
+        pair, off = card_pair(value, cfg.design.mu_k)
         return f"nearest card pair: {pair}, {100 * off:.0f} % off"
     if unit == "m":
         return mm(value)

@@ -101,6 +101,7 @@ of a face's friction, the ``hook: pin`` scene (that is
 
 from __future__ import annotations
 
+import sys
 import time
 from pathlib import Path
 from typing import Mapping, Sequence
@@ -152,6 +153,11 @@ def compile_kernels() -> float:
     global _loaded
     t0 = time.perf_counter()
     if not _loaded:
+        folder = kernel_cache_dir()
+        if not any(folder.rglob("run.run_batch-*.nbi")):  # numba's index of the batch kernel: not compiled yet
+            print(f"aero-env: compiling the reduced model for this version of its source, numba and Python (once: "
+                  f"half a minute to a few minutes on a busy machine; later runs load it from {folder})",
+                  file=sys.stderr, flush=True)
         table = param_table(raw_from_configs([Config()]), STEP)
         frames = 2  # any row length: the kernels take it as an argument
         for kernel in (_run.run_one, _run.run_batch):
