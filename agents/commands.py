@@ -174,6 +174,7 @@ REDUCED_RISK = ("aero-env train: sim.fidelity = reduced trains on the fast model
 
 def cmd_train(args) -> int:
     from aero_env.config import parse_override
+    from aero_env.signals import exit_status, signal_name
 
     from .rl import TrainInterrupted, TrainSettings, check_run_dir, train
 
@@ -186,16 +187,16 @@ def cmd_train(args) -> int:
         print(REDUCED_RISK.format(out=shlex.quote(str(args.out))), file=sys.stderr)
     try:
         run = train(cfg, settings, args.out, overwrite=args.overwrite, resume=args.resume, init_from=args.init_from)
-    except KeyboardInterrupt:  # before the first step: train left the folder as it found it
-        print(f"aero-env train: interrupted before the first training step; {args.out} is as it was before",
+    except KeyboardInterrupt as stop:  # Ctrl-C or SIGTERM before the first step: train left the folder as it found it
+        print(f"aero-env train: {signal_name(stop)} before the first training step; {args.out} is as it was before",
               file=sys.stderr)
-        return INTERRUPTED
+        return exit_status(stop)
     except TrainInterrupted as stop:
         r = stop.run
-        print(f"aero-env train: interrupted at {r['timesteps_done']} of {r['timesteps']} timesteps; kept the policy so "
-              f"far and its curves in {args.out} (aero-env evaluate {args.out} scores it); resume: rerun the same "
-              f"command with --resume", file=sys.stderr)
-        return INTERRUPTED
+        print(f"aero-env train: {signal_name(stop.by)} at {r['timesteps_done']} of {r['timesteps']} timesteps; kept "
+              f"the policy so far and its curves in {args.out} (aero-env evaluate {args.out} scores it); resume: rerun "
+              f"the same command with --resume", file=sys.stderr)
+        return exit_status(stop.by)
     if args.json:
         print(json.dumps({**run, "out": args.out}, indent=2))
     else:
@@ -214,7 +215,7 @@ def cmd_train(args) -> int:
 def cmd_evaluate(args) -> int:
     from aero_env.config import ConfigError
 
-    from .rl import check_run_files, evaluate
+    from .rl import check_run_files, evaluate, read_run_config
 
     run_dir = check_run_files(args.run_dir)
     scene = None
@@ -223,7 +224,7 @@ def cmd_evaluate(args) -> int:
 
         overrides = dict(parse_override(s) for s in args.set or [])
         # without --config, --set changes the scene the policy was trained on (its config.yaml in DIR)
-        scene = load_config(args.config or run_dir / "config.yaml", overrides)
+        scene = load_config(args.config, overrides) if args.config else read_run_config(run_dir, overrides)
         drawn = {c.name for c in scene.context if c.low is not None}
         for key in overrides:
             if key in drawn:

@@ -11,7 +11,7 @@ A training run writes to its directory ``DIR``:
 |-------------------|----------------------------------------------------------------------|
 | ``model.zip``     | the trained policy (``PPO.load`` / ``SAC.load``)                     |
 | ``config.yaml``   | the scene it was trained on, complete (``load_config`` reads it)     |
-| ``run.json``      | algorithm, hyper-parameters, seed, timesteps, wall time              |
+| ``run.json``      | algorithm, hyper-parameters, seed, timesteps, time, config sha256    |
 | ``evaluations.npz`` | the periodic evaluations (SB3's ``EvalCallback``)                  |
 | ``monitor.csv``   | every training episode's reward (SB3's ``Monitor``)                  |
 | ``learning_curve.png`` | training reward (rolling mean) and the periodic evaluations     |
@@ -21,22 +21,28 @@ spread of its reward. Hyper-parameters are the documented defaults below, overri
 each override is checked against :data:`HP_SPECS` (its type and range) before anything is built.
 
 ``DIR`` must be new or empty (``overwrite=True`` first removes a previous run's files, so that
-two runs never share one learning curve). A run stopped by Ctrl-C keeps what it learnt: the
+two runs never share one learning curve). A run stopped by Ctrl-C or SIGTERM keeps what it learnt: the
 policy so far in ``model.zip`` (and SAC's replay buffer), ``run.json`` marked ``interrupted``
 with ``timesteps_done``; ``resume=True`` (``aero-env train ... --resume``) continues it up to
 ``timesteps`` with the same settings, appending to its monitor files (one more per vector env,
 ``r1-0.monitor.csv``, ...) and its evaluations. A resumed run is not bit-identical to one that
 was never stopped (the environments restart their episodes and PPO its rollout).
+
+A file of the run that does not read back (cut, empty, edited: :func:`read_run_json`, :func:`read_run_config`,
+:func:`load_policy`) stops ``evaluate`` and a resume with one line naming it and what to do; a refused resume
+leaves ``DIR`` as it found it.
 """
 
 from __future__ import annotations
 
 import contextlib
+import copy
 import dataclasses
 import hashlib
 import json
 import math
 import os
+import shlex
 import time
 import warnings
 from dataclasses import dataclass
@@ -46,7 +52,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from aero_env.config import Config, ConfigError, MissingExtra, did_you_mean, from_dict, load_config
+from aero_env.config import Config, ConfigError, MissingExtra, did_you_mean, from_dict, load_config, shown
 from aero_env.files import write_atomically
 from aero_env.scene_args import MAX_SEED, check_output_dir
 
@@ -112,7 +118,9 @@ class TrainSettings:
         return dataclasses.replace(self, hyperparameters=hp) if self.hyperparameters is not None else self
 
     def algo_kwargs(self) -> dict[str, Any]:
-        return {**ALGO_DEFAULTS[self.algo], **(self.hyperparameters or {})}
+        # a copy all the way down: SAC adds use_sde to the policy_kwargs it is given, which made a second SAC run in
+        # one process record other hyper-parameters, and its --resume refused
+        return copy.deepcopy({**ALGO_DEFAULTS[self.algo], **(self.hyperparameters or {})})
 
     def steps_per_round(self) -> int:
         """Steps SB3 takes between two looks at the budget: PPO a whole rollout (n_steps x n_envs), SAC one step
@@ -174,11 +182,12 @@ def check_hyperparameter(algo: str, name: str, value: Any) -> Any:
 
 
 class TrainInterrupted(Exception):
-    """Ctrl-C during training: the run so far was saved; ``run`` is what run.json now holds."""
+    """Ctrl-C or SIGTERM during training: the run so far was saved; ``run`` is what run.json now holds, ``by`` the
+    KeyboardInterrupt that stopped it (:class:`~aero_env.signals.Terminated` for SIGTERM)."""
 
-    def __init__(self, run: dict, out: Path):
+    def __init__(self, run: dict, out: Path, by: KeyboardInterrupt):
         super().__init__(f"interrupted at {run['timesteps_done']} of {run['timesteps']} timesteps")
-        self.run, self.out = run, out
+        self.run, self.out, self.by = run, out, by
 
 
 def check_run_dir(out: str | Path, overwrite: bool = False, resume: bool = False) -> None:
@@ -202,7 +211,11 @@ def missing_run_files(folder: Path) -> list[str]:
 
 def policy_sha256(folder: str | Path) -> str:
     """The sha256 of a run's ``model.zip``: a finish records its start's, so a start trained again shows."""
-    return hashlib.sha256((Path(folder) / "model.zip").read_bytes()).hexdigest()
+    return file_sha256(Path(folder) / "model.zip")
+
+
+def file_sha256(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
 def clear_run(out: Path) -> None:
@@ -216,13 +229,13 @@ def clear_run(out: Path) -> None:
 def _resume_state(cfg: Config, settings: "TrainSettings", out: Path, init_from: str | Path | None = None) -> dict:
     """The stopped run in ``out``, checked against this call: same scene and settings (``init_from`` too: absent,
     or the run's own start, so that the command that started the run resumes it), more timesteps."""
-    before = json.loads((out / "run.json").read_text())
+    before = read_run_json(out)
     started = (before.get("init_from") or {}).get("dir")
     if init_from is not None and (started is None or Path(started).resolve() != Path(init_from).resolve()):
         raise ConfigError(f"--init-from {str(init_from)!r} with --resume: the run in {str(out)!r} started from "
                           f"{'a new policy' if started is None else repr(started)}; resume it with that, or without "
                           f"--init-from")
-    if load_config(out / "config.yaml") != cfg:
+    if read_run_config(out) != cfg:
         raise ConfigError(f"--resume: the run in {str(out)!r} was trained on another scene (its config.yaml); "
                           f"give the same CONFIG and --set, or a new --out")
     for key in ("algo", "n_envs", "seed", "eval_every", "vector"):
@@ -256,10 +269,9 @@ def check_init_from(init_from: str | Path, cfg: Config, settings: "TrainSettings
     if missing:
         raise ConfigError(f"{where}: no {', '.join(missing)} there; give a folder aero-env train wrote")
     try:
-        before = json.loads((folder / "run.json").read_text())
-        trained_on = load_config(folder / "config.yaml")
-    except (ConfigError, ValueError) as e:
-        raise ConfigError(f"{where}: {str(e).splitlines()[0]}") from None
+        before, trained_on = read_run_json(folder), read_run_config(folder)
+    except ConfigError as e:
+        raise ConfigError(f"{where}: {e}") from None
     if before.get("algo") != "ppo":
         raise ConfigError(f"{where}: a {before.get('algo')!r} run; allowed: a ppo run")
     theirs = (before.get("hyperparameters") or {}).get("policy_kwargs")
@@ -349,9 +361,30 @@ def _vec_env(cfg: Config, n_envs: int, seed: int, monitor_dir: Path | None, pref
         return venv
     fns = [partial(make_env, cfg.to_dict(), str(monitor_dir / f"{prefix}{i}") if monitor_dir else None)
            for i in range(n_envs)]
-    venv = SubprocVecEnv(fns, start_method="spawn") if n_envs > 1 else DummyVecEnv(fns)
+    venv = _worker_processes(SubprocVecEnv, fns) if n_envs > 1 else DummyVecEnv(fns)
     venv.seed(seed)
     return venv
+
+
+def _worker_processes(cls, fns):
+    """SB3's ``SubprocVecEnv`` (``cls``) of ``fns``, one spawned process each. Stopped while its workers start (a
+    Ctrl-C or SIGTERM while they import), it kills the ones it launched: they ignore both signals
+    (:func:`~agents.interrupts.children_ignore_sigint`), hold nothing yet, and SB3's ``terminate()`` at exit, a
+    SIGTERM, would not end them (one lived on to print a BrokenPipeError traceback)."""
+    venv = cls.__new__(cls)
+    try:
+        venv.__init__(fns, start_method="spawn")
+    except BaseException:
+        _kill_workers(venv)
+        raise
+    return venv
+
+
+def _kill_workers(workers) -> None:
+    for process in getattr(workers, "processes", ()):
+        if process.is_alive():
+            process.kill()
+            process.join()
 
 
 def _close(venv) -> None:
@@ -371,7 +404,7 @@ def _close(venv) -> None:
     try:
         venv.close()
     except (EOFError, OSError, BrokenPipeError):
-        pass
+        _kill_workers(workers)  # a close cut short leaves workers that ignore SIGTERM waiting for a command
 
 
 def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool = False,
@@ -382,10 +415,11 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
     they only watch, so the policy learnt is the same with or without them.
 
     ``out`` must be new or empty unless ``overwrite`` (a previous run's files are removed first) or
-    ``resume`` (go on with the run stopped there). Ctrl-C saves the run so far and raises
+    ``resume`` (go on with the run stopped there). Ctrl-C or SIGTERM saves the run so far and raises
     :class:`TrainInterrupted`; before the first training step, it removes what this call wrote (a resumed run
-    is left as it was) and raises KeyboardInterrupt. Either way ``out`` holds a whole run or none: every file
-    is written atomically, and a save runs to its end through a second Ctrl-C (:mod:`agents.interrupts`).
+    is left as it was) and raises KeyboardInterrupt (Terminated for SIGTERM), as any other failure before that
+    step does with its own exception. Either way ``out`` holds a whole run or none: every file is written
+    atomically, and a save runs to its end through a second signal (:mod:`agents.interrupts`).
 
     ``init_from``: a run folder whose policy (weights and optimiser state) this run starts from instead of a new
     one (:func:`check_init_from`; PPO only): a policy pretrained at ``reduced`` finished at ``mbd``. ``run.json``
@@ -420,6 +454,8 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
                 out.mkdir(parents=True, exist_ok=True)
                 if not before:  # a resumed run's config.yaml is this scene already (_resume_state)
                     write_atomically(out / "config.yaml", lambda f: f.write(cfg.to_yaml().encode()))
+                # a config.yaml cut between its sections still loads, as another scene: the sha256 tells it
+                run["config_sha256"] = file_sha256(out / "config.yaml")
                 venv = _vec_env(cfg, settings.n_envs, settings.seed + (1000 * segment), out,
                                 f"r{segment}-" if segment else "", settings.vector)
                 model, evaluation, extra = _model(sb3, cfg, settings, out, venv, before, segment, start)
@@ -439,18 +475,28 @@ def train(cfg: Config, settings: TrainSettings, out: str | Path, overwrite: bool
                         run["segments"] = segment + 1
                     _save_run(model, out, run, evaluation, keep_replay=False)
                 return run
-        except KeyboardInterrupt:
+        except KeyboardInterrupt as stop:  # Ctrl-C, or SIGTERM (Terminated)
             with sigint.saving():
                 _close(venv)
-                trained = model is not None and model.num_timesteps > (before["timesteps_done"] if before else 0)
-                if not trained:  # stopped before the first step: the folder is left as this call found it
+                if not _trained(model, before):  # stopped before the first step: the folder as this call found it
                     kept.restore()
                     raise
                 wall = wall_before + time.perf_counter() - t0
                 run.update(timesteps_done=int(model.num_timesteps), interrupted=True, segments=segment + 1,
                            wall_time=wall, episodes_per_second=model.num_timesteps / wall if wall > 0 else None)
                 _save_run(model, out, run, evaluation, keep_replay=settings.algo == "sac")
-            raise TrainInterrupted(run, out) from None
+            raise TrainInterrupted(run, out, stop) from None
+        except Exception:
+            with sigint.saving():
+                _close(venv)  # its workers ignore SIGTERM (children_ignore_sigint): nothing else would end them
+                if not _trained(model, before):  # a failed start (a damaged file of the run resumed, say) leaves
+                    kept.restore()               # the folder as this call found it: no stray monitor file
+            raise
+
+
+def _trained(model, before: dict | None) -> bool:
+    """Whether ``model`` took a training step in this call (``before``: the run it resumed)."""
+    return model is not None and model.num_timesteps > (before["timesteps_done"] if before else 0)
 
 
 def _model(sb3, cfg: Config, settings: TrainSettings, out: Path, venv, before: dict | None, segment: int,
@@ -466,21 +512,35 @@ def _model(sb3, cfg: Config, settings: TrainSettings, out: Path, venv, before: d
         evaluation = EvalCallback(eval_env, n_eval_episodes=EVAL_EPISODES, log_path=str(out), verbose=0,
                                   eval_freq=max(1, settings.eval_every // settings.n_envs), warn=False)
         if before and (out / "evaluations.npz").is_file():
-            old = np.load(out / "evaluations.npz")
-            evaluation.evaluations_timesteps = [int(t) for t in old["timesteps"]]
-            evaluation.evaluations_results = [list(r) for r in old["results"]]
-            evaluation.evaluations_length = [list(r) for r in old["ep_lengths"]]
+            (evaluation.evaluations_timesteps, evaluation.evaluations_results,
+             evaluation.evaluations_length) = _read_evaluations(out / "evaluations.npz")
         callbacks.append(evaluation)
     if not before:
         model = cls("MlpPolicy", venv, seed=settings.seed, device="cpu", verbose=0, **settings.algo_kwargs())
         if start:  # this run's settings, seed and env; the pretrained run's weights and optimiser state
             model.set_parameters(str(Path(start["dir"]) / "model.zip"), exact_match=True, device="cpu")
         return model, evaluation, callbacks
-    model = cls.load(out / "model.zip", env=venv, device="cpu")
+    model = load_policy(cls, out / "model.zip", env=venv)
     model.set_random_seed(settings.seed + 1000 * segment)  # a resumed segment is seeded too
-    if settings.algo == "sac" and (out / "replay_buffer.pkl").is_file():
-        model.load_replay_buffer(out / "replay_buffer.pkl")
+    replay = out / "replay_buffer.pkl"
+    if settings.algo == "sac" and replay.is_file():
+        try:
+            model.load_replay_buffer(replay)
+        except Exception as e:  # cut, or not a pickled replay buffer
+            raise _unreadable(replay, f"not a replay buffer that loads ({_why(e)})",
+                              f"remove it to resume with an empty buffer, or {_retrain(out)}") from None
     return model, evaluation, callbacks
+
+
+def _read_evaluations(path: Path) -> tuple[list, list, list]:
+    """A stopped run's periodic evaluations (its evaluations.npz) as EvalCallback keeps them, or a one-line error."""
+    try:
+        with np.load(path) as old:
+            return ([int(t) for t in old["timesteps"]], [list(r) for r in old["results"]],
+                    [list(r) for r in old["ep_lengths"]])
+    except Exception as e:  # cut, not an .npz, an array missing or of another shape
+        raise _unreadable(path, f"not the run's evaluations ({_why(e)})",
+                          f"remove it to resume without the evaluations so far, or {_retrain(path.parent)}") from None
 
 
 def _save_run(model, out: Path, run: dict, evaluation, keep_replay: bool) -> None:
@@ -547,6 +607,84 @@ def _jsonable(x):
     return json.loads(json.dumps(x, default=str))
 
 
+# run.json's fields that a resume, a start from the run (--init-from) and evaluate read back: each one's type, and
+# whether every run has it (the others came later, or only with a resume or --init-from)
+RUN_FIELDS: dict[str, tuple[type, bool]] = {
+    "algo": (str, True), "timesteps": (int, True), "n_envs": (int, True), "seed": (int, True),
+    "eval_every": (int, True), "hyperparameters": (dict, True), "timesteps_done": (int, False),
+    "wall_time": (float, False), "segments": (int, False), "vector": (bool, False), "init_from": (dict, False),
+    "config_sha256": (str, False)}
+_KINDS = {str: "a string", int: "a whole number >= 0", float: "a number", bool: "true or false",
+          dict: "a JSON object"}
+
+
+def _why(exc: BaseException) -> str:
+    """An exception as a clause of a one-line message: its type and the start of its first line."""
+    text = (str(exc).strip().splitlines() or [""])[0]
+    text = text if len(text) <= 100 else text[:97] + "..."
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def _retrain(folder: Path) -> str:
+    return f"train the run again (aero-env train ... --out {shlex.quote(str(folder))} --overwrite)"
+
+
+def _unreadable(path: Path, what: str, fix: str | None = None) -> ConfigError:
+    """A run's file that cannot be read back: one line naming it, what is wrong and what to do (default: train
+    the run again)."""
+    return ConfigError(f"run file {str(path)!r}: {what}; {fix or _retrain(path.parent)}")
+
+
+def read_run_json(folder: str | Path) -> dict:
+    """A run's run.json, its fields checked (:data:`RUN_FIELDS`), or a one-line error naming the file."""
+    path = Path(folder) / "run.json"
+    try:
+        run = json.loads(path.read_bytes())
+    except (OSError, ValueError) as e:  # ValueError: not UTF-8, or not JSON
+        raise _unreadable(path, f"not the run's JSON record ({_why(e)})") from None
+    if not isinstance(run, dict):
+        raise _unreadable(path, f"a JSON {type(run).__name__}, not the run's record (an object)")
+    for key, (kind, always) in RUN_FIELDS.items():
+        if key not in run:
+            if always:
+                raise _unreadable(path, f"no {key!r} field")
+            continue
+        value = run[key]
+        fits = isinstance(value, (int, float) if kind is float else kind)
+        if not fits or (kind is not bool and isinstance(value, bool)) or (kind is int and value < 0):
+            raise _unreadable(path, f"{key} = {shown(value)}: must be {_KINDS[kind]}")
+    if run["algo"] not in ALGOS:
+        raise _unreadable(path, f"algo = {shown(run['algo'])}: must be one of {', '.join(ALGOS)}")
+    if "init_from" in run and not isinstance(run["init_from"].get("dir"), str):
+        raise _unreadable(path, "init_from has no 'dir' (the folder the run started from)")
+    return run
+
+
+def read_run_config(folder: str | Path, overrides: Mapping[str, Any] | None = None) -> Config:
+    """The scene a run was trained on (its config.yaml, the file run.json's ``config_sha256`` names, where it has
+    one), or a one-line error naming the file and what to do; ``overrides`` (evaluate's ``--set``) apply once the
+    file has read whole, so that their own errors stay theirs."""
+    path = Path(folder) / "config.yaml"
+    recorded = read_run_json(folder).get("config_sha256")
+    if recorded is not None and file_sha256(path) != recorded:
+        raise _unreadable(path, "cut or changed since the run was trained (not the sha256 its run.json records)")
+    try:
+        cfg = load_config(path)
+    except ConfigError as e:
+        said = str(e) if str(e).startswith("config file ") else f"run file {str(path)!r}: {e}"
+        raise ConfigError(f"{said}; {_retrain(Path(folder))}") from None
+    return load_config(path, overrides) if overrides else cfg
+
+
+def load_policy(cls, path: Path, **kwargs):
+    """``cls.load(path)`` (PPO or SAC) on the CPU, or a one-line error naming the file: cut, empty, not a zip, or a
+    zip whose policy.pth or data is damaged."""
+    try:
+        return cls.load(path, device="cpu", **kwargs)
+    except Exception as e:  # SB3 and torch raise a dozen kinds here, each with a traceback of 20-30 lines
+        raise _unreadable(path, f"not a policy that loads ({_why(e)})") from None
+
+
 def check_run_files(run_dir: str | Path) -> Path:
     """``run_dir`` as a Path, or a one-line error if it is not a folder ``aero-env train`` wrote."""
     run_dir = Path(run_dir)
@@ -560,9 +698,9 @@ def load_run(run_dir: str | Path):
     """The trained model and its scene from a training directory."""
     sb3 = _sb3()
     run_dir = check_run_files(run_dir)
-    run = json.loads((run_dir / "run.json").read_text())
+    run = read_run_json(run_dir)
     cls = {"ppo": sb3.PPO, "sac": sb3.SAC}[run["algo"]]
-    return cls.load(run_dir / "model.zip", device="cpu"), load_config(run_dir / "config.yaml"), run
+    return load_policy(cls, run_dir / "model.zip"), read_run_config(run_dir), run
 
 
 def evaluate(run_dir: str | Path, episodes: int = 20, seed: int = 0, config: Config | None = None,
@@ -686,7 +824,7 @@ def _monitor_rewards(run_dir: Path) -> np.ndarray:
     segments of a resumed run: each file's times count from its own start, which its first line gives)."""
     rows = []
     for f in sorted(run_dir.glob("*.monitor.csv")):
-        head, _, rest = f.read_text().partition("\n")
+        head, _, rest = f.read_text(errors="replace").partition("\n")  # a damaged one: its lines that parse
         try:
             t_start = float(json.loads(head.lstrip("#")).get("t_start", 0.0))
         except (ValueError, AttributeError):

@@ -121,6 +121,18 @@ def test_bad_settings_name_the_option(kwargs, words):
         assert w in str(err.value)
 
 
+def test_a_sac_model_leaves_the_hyperparameters_it_was_given_as_they_were():
+    """SAC adds use_sde to the policy_kwargs it is given: a second SAC run in the process recorded other
+    hyper-parameters than the first, and its --resume was refused."""
+    from stable_baselines3 import SAC
+
+    settings = TrainSettings(algo="sac", hyperparameters={"batch_size": 4}).check()
+    SAC("MlpPolicy", make_env(load_config(PAPER).to_dict()), device="cpu", **settings.algo_kwargs())
+    assert settings.algo_kwargs() == dict(learning_rate=3e-4, buffer_size=100_000, learning_starts=100, batch_size=4,
+                                          gamma=0.0, train_freq=1, gradient_steps=1,
+                                          policy_kwargs=dict(net_arch=[64, 64]))
+
+
 def test_evaluate_refuses_a_directory_that_is_not_a_run(tmp_path):
     with pytest.raises(ConfigError, match="no run.json"):
         evaluate(tmp_path)
