@@ -9,11 +9,13 @@ ENTRY_POINT = "aero_env.envs.aerial_acrobat:AerialAcrobatEnv"
 # call (aero_env/envs/aerial_acrobat_vector.py). make_vec with no vectorization_mode picks it too.
 VECTOR_ENTRY_POINT = "aero_env.envs.aerial_acrobat_vector:AerialAcrobatVectorEnv"
 
-# Every episode is one step (a design scored on its row), so each id is registered with max_episode_steps=1. gym.make
-# then wraps the env in Gymnasium's TimeLimit, which sets truncated=True on that step beside terminated=True (Gymnasium
-# 1.4, wrappers/common.py: TimeLimit.step truncates once elapsed >= max_episode_steps, whatever terminated says); the
-# env's own flag stays False. Why that is kept: the "Episode End" section of aero_env/envs/aerial_acrobat.py.
-MAX_EPISODE_STEPS = 1
+# Every episode is one step (a design scored on its row) and ends by itself: the step returns terminated=True. The ids
+# are registered without max_episode_steps, as Gymnasium's Blackjack-v1 (another episode that ends by itself), so
+# gym.make adds no TimeLimit and truncated stays False. With max_episode_steps=1 (as before), TimeLimit set
+# truncated=True on that step beside terminated=True (Gymnasium 1.4, wrappers/common.py: it truncates once elapsed >=
+# max_episode_steps, whatever terminated says): logs showed 100 % truncation, code that bootstraps on truncated learnt
+# wrong targets, and check_env(gym.make(id)) failed ("truncates after 1 step"). Truncation means a limit outside the
+# task; this episode has none.
 
 ENVIRONMENTS: dict[str, dict] = {
     # The prototype's scene: Table 1 masses and lengths on the 8-frame row of configs/paper.yaml.
@@ -68,5 +70,4 @@ def register_environments() -> None:
     for env_id, kwargs in ENVIRONMENTS.items():
         if env_id not in gym.registry:
             gym.register(id=env_id, entry_point=ENTRY_POINT, vector_entry_point=VECTOR_ENTRY_POINT,
-                         max_episode_steps=MAX_EPISODE_STEPS, reward_threshold=REWARD_THRESHOLDS[env_id],
-                         kwargs=dict(kwargs))
+                         reward_threshold=REWARD_THRESHOLDS[env_id], kwargs=dict(kwargs))

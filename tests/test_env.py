@@ -47,7 +47,7 @@ def test_prototype_action_scores_the_full_row(prototype_step):
     env, (obs, reward, terminated, truncated, info) = prototype_step
     frames = env.unwrapped.config.scene.frames
     assert reward == frames - 1 == 7 and info["outcome"] == "completed"
-    assert terminated and truncated  # truncated: gym.make's TimeLimit of max_episode_steps=1 (the spec's tests below)
+    assert terminated and not truncated  # the episode ends by itself; gym.make adds no TimeLimit (the spec's tests below)
     # the action maps back to the prototype's design (float32 action: within 1e-7 relative)
     for key, v in info["design"].items():
         assert v == pytest.approx(load_config(PAPER).value(key), rel=1e-7)
@@ -372,20 +372,25 @@ def test_every_registered_variant_makes_resets_and_steps(env_id):
         assert len({o.tobytes() for o in observations}) == 4
 
 
-# ---- the spec (issue 35 §5): one-step episodes, and the whole row as the reward threshold ----
+# ---- the spec (issues 35 §5 and 51 §5): episodes that end by themselves, and the whole row as the reward threshold --
 REDUCED_SHORT = {"sim.fidelity": "reduced", "scene.frames": 3}
 
 
 @pytest.mark.parametrize("env_id", sorted(aero_env.registration.ENVIRONMENTS))
-def test_the_spec_says_one_step_episodes_and_the_whole_row_of_its_own_scene(env_id):
+def test_the_spec_sets_no_time_limit_and_the_whole_row_of_its_own_scene_as_threshold(env_id):
+    from gymnasium.utils.env_checker import check_env
+
     spec = gym.spec(env_id)
-    env = gym.make(env_id)
-    assert spec.max_episode_steps == 1 and env.spec.max_episode_steps == 1
-    assert spec.reward_threshold == env.unwrapped.config.scene.frames - 1  # 7 on the prototype's row, 4 on the maker's
+    env = gym.make(env_id, **REDUCED_SHORT)
+    assert spec.max_episode_steps is None and env.spec.max_episode_steps is None
+    assert spec.reward_threshold == gym.make(env_id).unwrapped.config.scene.frames - 1  # 7 on the prototype's, 4
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # "the environment is different from the unwrapped version"
+        check_env(env, skip_render_check=True)  # the made env, as a user makes it: it failed at "truncates after 1"
     env.close()
 
 
-def test_under_gym_make_the_one_step_is_truncated_as_time_limit_does_and_read_as_terminated():
+def test_a_step_ends_the_episode_by_itself_and_nothing_truncates_it():
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     from aero_env.envs import AerialAcrobatVectorEnv
@@ -393,37 +398,33 @@ def test_under_gym_make_the_one_step_is_truncated_as_time_limit_does_and_read_as
     made = make(**REDUCED_SHORT)
     action = made.unwrapped.action_for()
     made.reset(seed=0)
-    assert made.step(action)[2:4] == (True, True)  # TimeLimit(env, 1): elapsed 1 >= 1 truncates, whatever terminated
+    assert made.step(action)[2:4] == (True, False)  # no TimeLimit around it
     made.unwrapped.reset(seed=0)
-    assert made.unwrapped.step(action)[2:4] == (True, False)  # the env itself never truncates
-    unlimited = make(max_episode_steps=-1, **REDUCED_SHORT)  # no TimeLimit at all
-    unlimited.reset(seed=0)
-    assert unlimited.step(action)[2:4] == (True, False) and unlimited.spec.max_episode_steps is None
-    # Gymnasium's checker takes a truncation at step 1 for a bug: the made env fails it, the raw env passes
-    from gymnasium.utils.env_checker import check_env
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # "the environment is different from the unwrapped version"
-        with pytest.raises(AssertionError, match="truncates after 1 step"):
-            check_env(make(**REDUCED_SHORT), skip_render_check=True)
-        check_env(made.unwrapped, skip_render_check=True)
+    assert made.unwrapped.step(action)[2:4] == (True, False)
+    limited = make(max_episode_steps=1, **REDUCED_SHORT)  # a limit a user asks for: TimeLimit truncates at it
+    limited.reset(seed=0)
+    assert limited.step(action)[2:4] == (True, True)
     # SB3 reads the step as terminal, not as a time-out to bootstrap from
     sb3 = DummyVecEnv([lambda: make(**REDUCED_SHORT)])
     sb3.reset()
     _, _, dones, infos = sb3.step(action[None])
     sb3.close()
     assert dones.all() and infos[0]["TimeLimit.truncated"] is False
-    # make_vec passes the spec's max_episode_steps to the vector entry point: the flags of SyncVectorEnv's made envs
+    # the native vector env, SyncVectorEnv of made envs and the class built by hand give the same flags; with
+    # max_episode_steps=1 passed through make_vec, truncated as TimeLimit gives it
     native = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", **REDUCED_SHORT)
     sync = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="sync",
                         vector_kwargs={"autoreset_mode": gym.vector.AutoresetMode.SAME_STEP}, **REDUCED_SHORT)
-    built = AerialAcrobatVectorEnv(2, overrides=REDUCED_SHORT)  # no max_episode_steps: as env.unwrapped
+    built = AerialAcrobatVectorEnv(2, overrides=REDUCED_SHORT)
+    limit = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", max_episode_steps=1,
+                         **REDUCED_SHORT)
     flags = []
-    for envs in (native, sync, built):
+    for envs in (native, sync, built, limit):
         envs.reset(seed=0)
         flags.append([f.tolist() for f in envs.step(np.tile(action, (2, 1)))[2:4]])
         envs.close()
-    assert flags[0] == flags[1] == [[True, True], [True, True]] and flags[2] == [[True, True], [False, False]]
+    assert flags[0] == flags[1] == flags[2] == [[True, True], [False, False]]
+    assert flags[3] == [[True, True], [True, True]]
 
 
 def test_only_a_completed_row_reaches_the_reward_threshold_shaped_or_not():

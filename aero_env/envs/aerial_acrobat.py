@@ -189,32 +189,20 @@ class AerialAcrobatEnv(gym.Env):
 
     Every step terminates the episode (``terminated=True``): the run ends at
     the first failed transfer or once the last frame has caught the robot and carried it through its
-    lowest point, and always within
-    ``sim.t_max``. The env itself never truncates; ``truncated`` is Gymnasium's ``TimeLimit``'s (below).
+    lowest point, and always within ``sim.t_max``. The episode ends by itself, so nothing truncates it:
+    ``truncated`` is always False. The ids are registered without ``max_episode_steps``, as Gymnasium's
+    ``Blackjack-v1`` is, so ``gym.make`` adds no ``TimeLimit``; ``check_env(gym.make(id))`` passes, and
+    code that bootstraps on ``truncated`` never takes this terminal step for a time-out.
     ``info`` holds the run as ``aero-env simulate --json`` prints it (``outcome``,
     ``reason``, ``traversals``, ``frames``, ``swings``, ``energy``, ``sim_time``,
     ``miss_distance``, ``health``) except ``wall_time``, which would break determinism, plus ``design``
     (the tunable and linked values chosen, SI), ``context`` (SI) and ``as_built`` (the fields the
     tolerances changed, as simulated, SI).
 
-    **``max_episode_steps=1`` and ``truncated``.** Every id is registered with
-    ``max_episode_steps=1`` (the episode's length), so ``gym.make`` wraps the env in ``TimeLimit(env, 1)``.
-    In Gymnasium 1.4 ``TimeLimit.step`` sets ``truncated = True`` once its elapsed steps reach the
-    limit, whatever ``terminated`` says (``gymnasium/wrappers/common.py``), so a made env's step returns
-    ``terminated=True, truncated=True``, as CartPole-v1 does when its pole falls at step 500. That is
-    kept: ``terminated`` is the true end, and the consumers here give it precedence: SB3's
-    ``DummyVecEnv``/``SubprocVecEnv`` set ``info["TimeLimit.truncated"] = truncated and not terminated``
-    (False here: no bootstrapping on a terminal step), as ``agents.vec_env`` does; Gymnasium's vector
-    envs and ``RecordEpisodeStatistics`` end the episode on either flag; RL Zoo's own patched
-    ``TimeLimit`` leaves ``truncated`` False on a terminated step. ``env.unwrapped.step`` returns
-    ``truncated=False``, and so does ``gym.make(id, max_episode_steps=-1)`` (no ``TimeLimit``). One
-    consumer does object: Gymnasium's ``check_env`` given the made env stops at "Environment truncates
-    after 1 step, something has gone very wrong" (``utils/env_checker.py``, ``check_step_determinism``);
-    give it ``env.unwrapped``, as its own warning about wrapped envs recommends. The spec's
-    ``reward_threshold`` is the whole row of the id's own scene (``frames - 1``: 7 on the prototype's
-    8 frames, 4 on ``AerialAcrobatContexts-v0``'s 5), which only a completed run reaches, shaped or not;
-    it is fixed per id, so with ``scene.frames`` (or ``config``) overridden the whole row is that
-    scene's ``frames - 1``, not the threshold.
+    The spec's ``reward_threshold`` is the whole row of the id's own scene (``frames - 1``: 7 on the
+    prototype's 8 frames, 4 on ``AerialAcrobatContexts-v0``'s 5), which only a completed run reaches,
+    shaped or not; it is fixed per id, so with ``scene.frames`` (or ``config``) overridden the whole row
+    is that scene's ``frames - 1``, not the threshold.
 
     ``reset()`` starts the next episode. A ``step()`` after ``terminated=True`` without a ``reset()`` warns once
     (until the next reset) through ``gymnasium.logger``, as Gymnasium's own environments do (CartPole: "any
@@ -295,6 +283,10 @@ class AerialAcrobatEnv(gym.Env):
     * v0: the default design problem, and every registered id's, is a maker's choices: ``design.m3``
       in 0.1 g steps, the card pair one of Table 3's (was a continuous friction over 0.2-1.5): the
       action's meaning on dimensions 0 and 4 changed.
+    * v0: registered without ``max_episode_steps`` (was 1): ``gym.make`` adds no ``TimeLimit``, so a step
+      returns ``truncated=False`` (was True beside ``terminated=True``) and ``check_env(gym.make(id))``
+      passes; ``reward_threshold`` kept; rewards unchanged. ``reset(options=...)`` refuses an option the
+      env does not read.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": ANIMATION_FPS}

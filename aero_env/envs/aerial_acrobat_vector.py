@@ -88,17 +88,16 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
     | observations           | the *next* episode's context, normalised, ``(num_envs, k)`` float32 | the stepped episode's own (a reset sub-env: its new episode's) |
     | rewards                | each design's reward, :func:`aero_env.reward.reward`, float64 | the same; 0 for a sub-env that was reset |
     | terminated             | all True                                                 | True where a design ran                      |
-    | truncated              | all equal to ``max_episode_steps == 1`` (below)          | the same where a design ran; False where reset |
+    | truncated              | all False (unless ``max_episode_steps=1``, below)        | the same where a design ran; False where reset |
     | ``info["final_obs"]``  | object array: the observation each finished episode was stepped on | absent                      |
     | ``info["final_info"]`` | the finished episodes' infos (below)                     | absent: their keys are in ``info`` itself, masked to the sub-envs that ran |
     | ``info["context"]``    | the next episode's context, SI (the reset info)          | the stepped episode's context (a reset sub-env: its new one) |
 
-    ``truncated`` follows Gymnasium's ``TimeLimit``: ``gym.make_vec`` passes the spec's
-    ``max_episode_steps`` (1 for every registered id), and TimeLimit truncates the step at which an
-    episode's steps reach it, so each scored step returns truncated True beside terminated True, as
-    ``SyncVectorEnv`` of ``gym.make`` envs does; built without it (``AerialAcrobatVectorEnv(n, ...)``,
-    or ``max_episode_steps=-1``), truncated is False. Why both are True: the single env's "Episode
-    End" section.
+    ``truncated`` follows Gymnasium's ``TimeLimit``: the registered ids have no ``max_episode_steps``
+    (an episode ends by itself: the single env's "Episode End" section), so it is False, as in
+    ``SyncVectorEnv`` of ``gym.make`` envs. Given ``max_episode_steps=1`` (``gym.make_vec(id,
+    max_episode_steps=1)`` passes it on), each scored step returns truncated True beside terminated True,
+    as ``TimeLimit(env, 1)`` gives the single env.
 
     ## Info
 
@@ -135,7 +134,7 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
     | ``overrides`` | None             | dotted-key overrides (``{"scene.frames": 3}``)                   |
     | ``workers``   | 1                | pymunk fidelities: processes in the pool (``os.cpu_count()``: one per core; needs the ``__main__`` guard); 1: this process, no pool; unused at ``reduced`` |
     | ``autoreset_mode`` | ``SAME_STEP`` | ``SAME_STEP``, ``NEXT_STEP`` or ``DISABLED`` (above); anything else is refused with a one-line ``ConfigError`` |
-    | ``max_episode_steps`` | None      | TimeLimit's limit per sub-env, as ``gym.make_vec`` passes the spec's (1); None or -1: none (truncated False) |
+    | ``max_episode_steps`` | None      | TimeLimit's limit per sub-env, as ``gym.make_vec`` passes one given it; None (the spec's) or -1: none (truncated False) |
     | ``**kwargs``  |                  | more dotted-key overrides, as ``gym.make``                       |
 
     Actions are ``(num_envs, d)`` in the single env's box; a bad row raises ``ConfigError`` naming
@@ -154,6 +153,7 @@ class AerialAcrobatVectorEnv(gym.vector.VectorEnv):
     * v0: ``autoreset_mode`` (NEXT_STEP, DISABLED beside SAME_STEP) and ``max_episode_steps`` (from
       the spec through ``gym.make_vec``: truncated True on each scored step, as TimeLimit gives the
       single envs).
+    * v0: the registered ids have no ``max_episode_steps`` (was 1): truncated False on every step.
     """
 
     metadata = {"autoreset_mode": AutoresetMode.SAME_STEP, "render_modes": []}  # each instance: its own mode
