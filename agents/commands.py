@@ -20,7 +20,6 @@ from aero_env.scene_args import PLOT_SUFFIXES, YAML_SUFFIXES, add_seed, check_no
 from .options import ALGOS, SAMPLERS
 from .study_faults import RECONNECT_S
 
-INTERRUPTED = 130  # the shell's status for a process ended by SIGINT
 
 
 def register(sub, scene_command) -> None:
@@ -117,9 +116,12 @@ def _whole(text: str):
 
 
 def cmd_tune(args) -> int:
+    from aero_env.signals import exit_status, signal_name
+
     from .study_faults import StorageUnavailable, redact
     from .tune import TuneInterrupted, plot_history, summary_lines, tune, write_best_yaml
     from .tune_settings import TuneSettings
+    from .tune_workers import WorkersFailed
 
     out = Path(args.out)
     plot = Path(args.plot) if args.plot else out.with_name(f"{out.stem}_history.png")
@@ -147,12 +149,17 @@ def cmd_tune(args) -> int:
         else:
             how = (f"its finished trials are kept in study {stop.study!r} ({redact(stop.storage)}): rerun the same "
                    f"command to resume: {_same_command()}")
-        print(f"aero-env tune: interrupted after {stop.finished} of {stop.target} trials; {kept}; {how}",
-              file=sys.stderr)
-        return INTERRUPTED
+        print(f"aero-env tune: {signal_name(stop.by)} after {stop.finished} of {stop.target} trials; {kept}; "
+              f"{how}", file=sys.stderr)
+        return exit_status(stop.by)
     except StorageUnavailable as lost:
         print(f"aero-env tune: stopped: {lost}; the study's finished trials are kept in study {lost.study!r}: once "
               f"the database is back, rerun the same command to resume: {_same_command()}", file=sys.stderr)
+        return 1
+    except WorkersFailed as failed:  # a worker's error (a study file damaged mid-run, say), or workers dying
+        print(f"aero-env tune: stopped: {' '.join(str(failed).split())}; the study's finished trials are kept in "
+              f"study {settings.study_name(Path(args.config).stem)!r} ({redact(settings.resolved_storage())})",
+              file=sys.stderr)
         return 1
     write_best_yaml(cfg, result, out)
     plot_history(result, plot)

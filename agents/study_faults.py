@@ -14,7 +14,8 @@ Faults (RDB storages), so that a study ends with exactly ``trials`` COMPLETE tri
 - a lost database (server restart, SQLite busy): each process retries with a bounded backoff
   (``reconnect_s`` in all), fails the trials it had RUNNING and goes on, or stops with
   :class:`StorageUnavailable` (the study resumes by rerunning the command);
-- Ctrl-C: the coordinator interrupts its workers, waits for them, fails what they left RUNNING;
+- Ctrl-C or SIGTERM (to the coordinator, a worker or all): the coordinator interrupts its workers, waits
+  for them, fails what they left RUNNING; the trials they stopped are queued again when the run resumes;
 - runs on other machines: a trial is started only while COMPLETE + RUNNING + WAITING trials fall
   short of ``trials``, and one that finds, at its start or before it reports, ``trials`` such
   trials numbered before it is PRUNED (``user_attrs["surplus"]``), never COMPLETE.
@@ -63,11 +64,16 @@ def exception_chain(exc: BaseException | None):
         exc = exc.__cause__ or exc.__context__
 
 
+def interrupt_in(exc: BaseException | None) -> KeyboardInterrupt | None:
+    """The Ctrl-C (or SIGTERM: :class:`aero_env.signals.Terminated`) somewhere in ``exc``'s chain, or None."""
+    return next((e for e in exception_chain(exc) if isinstance(e, KeyboardInterrupt)), None)
+
+
 def interrupted(exc: BaseException | None) -> bool:
     """Ctrl-C somewhere in ``exc``'s chain: Optuna, SQLAlchemy or a driver cut by it raise another error
     (Optuna's own "Should not reach", an UnboundLocalError, a connection invalidated), which must stop the
     run as Ctrl-C does, never be retried as a lost connection."""
-    return any(isinstance(e, KeyboardInterrupt) for e in exception_chain(exc))
+    return interrupt_in(exc) is not None
 
 
 def is_db_error(exc: BaseException | None) -> bool:
@@ -107,8 +113,9 @@ class Reconnect:
             try:
                 return fn()
             except Exception as exc:
-                if interrupted(exc):
-                    raise KeyboardInterrupt from None
+                stop = interrupt_in(exc)
+                if stop is not None:  # of its kind: SIGTERM's ends the run with 143, not Ctrl-C's 130
+                    raise type(stop)() from None
                 if not is_db_error(exc):
                     raise
                 now = time.monotonic()

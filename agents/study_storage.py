@@ -5,8 +5,9 @@ so local workers do not meet "database is locked". On an RDB storage the process
 stamped on it (``system_attrs["aero_process"]``: host, boot, pid namespace, pid and start time) in the
 transaction that makes it RUNNING; :func:`fail_dead_trials` fails the RUNNING trials whose process is
 gone from this host or never beat, and :func:`requeue_trial` (also the heartbeat's callback) queues
-their designs again. :func:`load_study` refuses to resume a study with another scene, seed count or
-sampler.
+their designs again; :func:`requeue_unfinished` queues again those that Ctrl-C or SIGTERM stopped.
+:func:`load_study` refuses to resume a study with another scene, seed count, robust builds, sampler or
+seed. A SQLite file that is not a database, or is damaged, is refused in one line before it is opened.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from __future__ import annotations
 import hashlib
 import json
 import logging
+import os
 import time
 import warnings
 from datetime import datetime, timedelta
@@ -21,7 +23,7 @@ from datetime import datetime, timedelta
 from aero_env.config import Config, ConfigError, MissingExtra
 
 from .study_faults import exception_chain, interrupted, is_db_error, process_gone, process_stamp, redact
-from .tune_settings import TuneSettings
+from .tune_settings import TuneSettings, sqlite_file
 
 HEARTBEAT_S = 10          # a trial's process marks it alive this often (RDB storages) ...
 GRACE_S = 60              # ... and a trial silent this long is failed by the next trial's start
@@ -62,18 +64,24 @@ def _quiet_fallback(record: logging.LogRecord) -> bool:
     return not record.getMessage().startswith("Caught an error from sqlalchemy")
 
 
+def quiet_cut_cursor(record: logging.LogRecord) -> bool:
+    """SQLAlchemy's connection pool logs a cursor that Ctrl-C (or SIGTERM) cut while it fetched, and that then would
+    not close, as "Error closing cursor" with two tracebacks (1 in 40 SIGTERMs inside a trial); the run's own line
+    says it stopped. Other errors are logged as before."""
+    return not (record.exc_info and interrupted(record.exc_info[1]))
+
+
 def import_optuna():
     try:
         import optuna
     except ImportError:
         raise MissingExtra("aero-env tune", "Optuna", "tune") from None
     optuna.logging.set_verbosity(optuna.logging.WARNING)
-    trials_log = logging.getLogger("optuna.study._optimize")
-    if _QUIET not in trials_log.filters:
-        trials_log.addFilter(_QUIET)
-    rdb_log = logging.getLogger("optuna.storages._rdb.storage")
-    if _quiet_fallback not in rdb_log.filters:
-        rdb_log.addFilter(_quiet_fallback)
+    for name, quiet in (("optuna.study._optimize", _QUIET), ("optuna.storages._rdb.storage", _quiet_fallback),
+                        ("sqlalchemy.pool.impl.QueuePool", quiet_cut_cursor)):  # the pool of every engine opened here
+        log = logging.getLogger(name)
+        if quiet not in log.filters:
+            log.addFilter(quiet)
     return optuna
 
 
@@ -94,13 +102,14 @@ def open_storage(url: str):
     if url == "memory":
         return optuna.storages.InMemoryStorage()
     if url.startswith("sqlite"):  # a busy database waits (up to 60 s) instead of failing "database is locked"
+        check_sqlite_file(url)
         engine_kwargs: dict = {"connect_args": {"timeout": 60}}
     else:  # a connection dropped by a server restart is replaced, not used; an unreachable host fails in 10 s
         engine_kwargs = {"pool_pre_ping": True}
         if url.startswith("postgresql"):
             engine_kwargs["connect_args"] = {"connect_timeout": 10}
     try:
-        for attempt in range(3):  # processes creating a new database's tables at once collide (IntegrityError)
+        for attempt in range(5):
             try:
                 with warnings.catch_warnings():  # heartbeats are marked experimental; they fail dead trials
                     warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
@@ -108,7 +117,11 @@ def open_storage(url: str):
                                                grace_period=GRACE_S, heartbeat_stale_trial_callback=requeue_trial)
                 break
             except Exception as exc:
-                if attempt == 2 or type(exc).__name__ != "IntegrityError":
+                # processes opening a new database at once each make Optuna's tables, and collide: a table made twice
+                # ("table studies already exists", one tune of two started together failed so) or its version's row
+                # written twice (IntegrityError); the next try finds them made
+                made_meanwhile = type(exc).__name__ == "IntegrityError" or "already exists" in str(exc)
+                if attempt == 4 or not made_meanwhile:
                     raise
                 time.sleep(0.2 * (attempt + 1))
         if url.startswith("sqlite"):  # readers never block the writer; the mode stays with the file
@@ -121,6 +134,33 @@ def open_storage(url: str):
     except Exception as exc:  # sqlalchemy's connection errors: name the URL, not the stack
         raise ConfigError(f"--storage {redact(url)}: cannot open ({type(exc).__name__}: "
                           f"{str(exc).splitlines()[0]})") from exc  # the cause: a worker retries a lost one
+
+
+def check_sqlite_file(url: str) -> None:
+    """Refuse, in one line, a SQLite file that is not a database or is damaged (pages overwritten), before Optuna
+    opens it: read through it raised a 108-line traceback, or failed every trial forever where the damage hid the
+    study's direction. ``PRAGMA quick_check`` reads every page (milliseconds for a study of thousands of trials)."""
+    import sqlite3
+    from contextlib import closing
+
+    path = sqlite_file(url)
+    if not path or not os.path.isfile(path) or os.path.getsize(path) == 0:  # a new file: nothing to check
+        return
+    try:
+        with closing(sqlite3.connect(path, timeout=60)) as conn:
+            found = [row[0] for row in conn.execute("PRAGMA quick_check")]
+    except sqlite3.DatabaseError as exc:
+        if exc.sqlite_errorname == "SQLITE_NOTADB":
+            raise ConfigError(f"study file {path!r} (--storage {url}): not a SQLite database (or its header is "
+                              f"damaged); give the study's file, or a new file name to start a study there") from None
+        if not exc.sqlite_errorname.startswith("SQLITE_CORRUPT"):
+            raise  # locked, unreadable: open_storage names it
+        found = [str(exc)]
+    if found != ["ok"]:
+        # quick_check's first finding, without its "*** in database main ***" heading
+        why = next((line for f in found for line in f.splitlines() if not line.startswith("***")), found[0])
+        raise ConfigError(f"study file {path!r} (--storage {url}): damaged ({why}); its trials cannot be read: "
+                          f"move it aside (or restore it from a backup) and rerun to start the study afresh")
 
 
 _STORAGE_CLASS = None
@@ -157,9 +197,8 @@ def _storage_class():
                 changed = self._take_waiting(trial_id)
             else:
                 changed = super().set_trial_state_values(trial_id, state, values)
-            if changed and state == TrialState.RUNNING:  # a queued trial taken by this process
+            if changed and state == TrialState.RUNNING:  # a queued trial taken (and stamped) by this process
                 self.owned.add(trial_id)
-                self.set_trial_system_attr(trial_id, PROCESS_ATTR, process_stamp())
             elif state.is_finished():
                 self.owned.discard(trial_id)
             return changed
@@ -168,7 +207,9 @@ def _storage_class():
             """Take a queued trial: WAITING -> RUNNING in one conditional UPDATE, True for the one process whose
             update found it WAITING. Optuna reads the state, then writes it, under ``SELECT ... FOR UPDATE``,
             which SQLite ignores: two workers could both read WAITING and both run the trial (four threads
-            claiming one queued trial of a SQLite study: two or more took it in 15 rounds of 20)."""
+            claiming one queued trial of a SQLite study: two or more took it in 15 rounds of 20). The process
+            stamp is written in the same transaction: a kill between the two writes left a RUNNING trial with no
+            process, failed only after the heartbeat's grace (a resume waited a minute for it)."""
             from optuna.storages._rdb import models
             from optuna.storages._rdb.storage import _create_scoped_session
 
@@ -179,6 +220,8 @@ def _storage_class():
                          .update({trial.state: TrialState.RUNNING}, synchronize_session=False))
                 if taken == 1:  # the update holds the row (SQLite: the database) until this transaction commits
                     trial.find_or_raise_by_id(trial_id, session).datetime_start = datetime.now()  # as Optuna's own
+                    self._set_trial_attr_without_commit(session, models.TrialSystemAttributeModel, trial_id,
+                                                        PROCESS_ATTR, process_stamp())
             return taken == 1
 
         def unbeaten_trial_ids(self, study_id: int) -> set[int]:
@@ -218,17 +261,19 @@ def finished_elsewhere(exc: BaseException | None) -> bool:
 
 # ---- dead processes' trials ----
 
-def requeue_trial(study, trial) -> None:
+def requeue_trial(study, trial, bounded: bool = True) -> bool:
     """A failed trial's design queued again (WAITING, same params and system attrs but the process stamp),
-    at most ``MAX_RETRY`` times; Optuna's RetryHeartbeatStaleTrialCallback without carrying the stamp."""
+    at most ``MAX_RETRY`` times unless not ``bounded``; Optuna's RetryHeartbeatStaleTrialCallback without carrying
+    the stamp. Whether it was queued."""
     optuna = import_optuna()
     attrs = {k: v for k, v in trial.system_attrs.items() if k != PROCESS_ATTR}
     history = [*attrs.get("retry_history", []), trial.number]
-    if len(history) > MAX_RETRY:
-        return
+    if bounded and len(history) > MAX_RETRY:
+        return False
     attrs.update(failed_trial=attrs.get("failed_trial", trial.number), retry_history=history)
     study.add_trial(optuna.create_trial(state=optuna.trial.TrialState.WAITING, params=trial.params,
                                         distributions=trial.distributions, system_attrs=attrs))
+    return True
 
 
 def _fail_and_requeue(study, storage, trial_id: int) -> bool:
@@ -259,6 +304,20 @@ def fail_dead_trials(study) -> list[int]:
             and _fail_and_requeue(study, storage, t._trial_id)]
 
 
+def requeue_unfinished(study) -> list[int]:
+    """Queue again the design of every FAIL trial that no trial retries; their numbers. Ctrl-C or SIGTERM in a trial's
+    objective has Optuna fail it and nothing queued it again (the config's own design, trial 0, was then never
+    scored), and a kill between failing a trial and queueing its copy leaves one so too. Called as a run starts,
+    so a resumed study reruns each once more, however often it was stopped before (``MAX_RETRY`` bounds the
+    copies within one run, so a design that kills its process is tried a few times per run, not forever). A FAIL
+    trial that another run has just failed and not yet queued may be queued twice: its design is scored twice."""
+    optuna = import_optuna()
+    trials = study.get_trials(deepcopy=False)
+    retried = {n for t in trials for n in t.system_attrs.get("retry_history", ())}
+    return [t.number for t in trials if t.state == optuna.trial.TrialState.FAIL and t.number not in retried
+            and requeue_trial(study, t, bounded=False)]
+
+
 def release_orphans(study, storage) -> list[int]:
     """Fail (and queue again) the trials this process made RUNNING and no longer runs: a lost connection
     cut them, or Ctrl-C came while Optuna was recording them. Called between trials only."""
@@ -279,30 +338,36 @@ def config_fingerprint(cfg: Config) -> str:
 
 
 def load_study(cfg: Config, settings: TuneSettings, storage, name: str, sampler):
+    """Make study ``name``, or load it and refuse settings that would change what it means: the scene, the seeds
+    per design, ``robust``, the sampler and its seed (the builds ``robust`` scores on and the screen's designs are
+    drawn from it too; with one worker the seed makes the study reproducible). ``trials`` (the target),
+    ``workers``, ``reconnect_s`` may differ on resume, and so may ``screen``, which acts on a new study only."""
     optuna = import_optuna()
     study = optuna.create_study(storage=storage, study_name=name, sampler=sampler, direction="maximize",
                                 load_if_exists=True)
     mark = study.user_attrs.get("config_fingerprint")
     fp = config_fingerprint(cfg)
-    made_with = study.user_attrs.get("sampler")  # absent in studies made before it was recorded
+    attrs = study.user_attrs
     if mark is None:
-        study.set_user_attr("config_fingerprint", fp)
         study.set_user_attr("config", cfg.to_dict())
         study.set_user_attr("seeds_per_design", settings.seeds_per_design)
         study.set_user_attr("sampler", settings.sampler)
         study.set_user_attr("robust", settings.robust)
-    elif made_with is not None and made_with != settings.sampler:
-        raise ConfigError(f"--sampler {settings.sampler}: study {name!r} was run with --sampler {made_with}; "
-                          f"resume it with --sampler {made_with}, or give a new --study name")
+        study.set_user_attr("seed", settings.seed)
+        # the mark last: a study cut short before it is made again, not refused for a setting not yet recorded
+        study.set_user_attr("config_fingerprint", fp)
     elif mark != fp:
         raise ConfigError(f"--study {name!r}: this study was made for another scene or design space "
                           f"(fingerprint {mark}, this config {fp}); give a new --study name")
-    elif study.user_attrs.get("seeds_per_design") != settings.seeds_per_design:
-        raise ConfigError(f"--seeds-per-design {settings.seeds_per_design}: study {name!r} scores designs on "
-                          f"{study.user_attrs.get('seeds_per_design')} seeds; its rewards would not compare")
-    elif study.user_attrs.get("robust", 0) != settings.robust:
-        raise ConfigError(f"--robust {settings.robust}: study {name!r} scores designs on "
-                          f"{study.user_attrs.get('robust', 0)} hand-made builds; its rewards would not compare")
+    else:
+        # (option, the study's value, this run's); sampler and seed are absent in studies made before they were kept
+        for option, stored, given in (("--sampler", attrs.get("sampler", settings.sampler), settings.sampler),
+                                      ("--seeds-per-design", attrs.get("seeds_per_design"), settings.seeds_per_design),
+                                      ("--robust", attrs.get("robust", 0), settings.robust),
+                                      ("--seed", attrs.get("seed", settings.seed), settings.seed)):
+            if stored != given:
+                raise ConfigError(f"{option} {given}: study {name!r} was run with {option} {stored}; resume it "
+                                  f"with {option} {stored}, or give a new --study name")
     return study
 
 

@@ -23,11 +23,12 @@ database, Ctrl-C and runs of the same study on other machines, and the study end
 ``trials`` COMPLETE trials (:mod:`agents.study_faults`; the Optuna storage and study are
 :mod:`agents.study_storage`).
 
-A study records the scene it was made for (a fingerprint of the config), the seeds per design
-and the sampler: resuming it with another scene, seed count or ``--sampler`` is refused (CMA-ES
-and TPE read their state from the study's trials; another sampler would silently restart the
-search inside it). Ctrl-C raises :class:`TuneInterrupted` carrying the best design of the trials
-finished so far; a study in a database keeps them and resumes by rerunning the same command.
+A study records the scene it was made for (a fingerprint of the config), the seeds per design, ``robust``,
+the sampler and its seed: resuming it with another of them is refused (CMA-ES and TPE read their state from
+the study's trials; another sampler would silently restart the search inside it, and another seed draws other
+builds). Ctrl-C (or SIGTERM) raises :class:`TuneInterrupted` carrying the best design of the trials finished so
+far; a study in a database keeps them and resumes by rerunning the same command, which first runs again every
+trial the stop left unfinished (the config's own design among them), as it does a killed process's.
 
 A new study's first trial is the config's own design (scored from its values, exactly); the best design is
 that one unless a trial earns a strictly higher mean reward, so a tune never ends worse than it started, and
@@ -61,7 +62,8 @@ from aero_env.files import save_figure, write_text_atomically
 
 from .design_eval import start_params
 from .study_faults import Reconnect, is_db_error, redact
-from .study_storage import complete_trials, fail_dead_trials, load_study, make_sampler, open_storage, release_orphans
+from .study_storage import (complete_trials, fail_dead_trials, load_study, make_sampler, open_storage, release_orphans,
+                            requeue_unfinished)
 from .tune_settings import TuneSettings
 from .tune_workers import run_trials, run_workers, worker_name
 
@@ -102,12 +104,15 @@ class TuneResult:
 # ---- the tuning run ----
 
 class TuneInterrupted(Exception):
-    """Ctrl-C during tuning. ``result``: the study's best so far (None before its first finished trial);
-    ``storage``, ``study``: where its trials are (an in-memory study ends with the process)."""
+    """Ctrl-C (or SIGTERM) during tuning. ``result``: the study's best so far (None before its first finished trial);
+    ``storage``, ``study``: where its trials are (an in-memory study ends with the process); ``by``: the
+    KeyboardInterrupt that stopped it (:class:`aero_env.signals.Terminated` for SIGTERM)."""
 
-    def __init__(self, result: "TuneResult | None", storage: str, study: str, finished: int, target: int):
+    def __init__(self, result: "TuneResult | None", storage: str, study: str, finished: int, target: int,
+                 by: KeyboardInterrupt | None = None):
         super().__init__(f"interrupted after {finished} of {target} trials")
         self.result, self.storage, self.study, self.finished, self.target = result, storage, study, finished, target
+        self.by = KeyboardInterrupt() if by is None else by
 
 
 def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> TuneResult:
@@ -135,10 +140,11 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
             if start is None:
                 print("aero-env tune: the config's own design lies outside its tunable ranges: the study starts "
                       "without it", file=sys.stderr, flush=True)
-            else:
+            # screened before anything is queued: a study stopped during the screen is still new when resumed
+            screened = screen(cfg, settings, slots=settings.trials - (start is not None)) if settings.screen else None
+            if start is not None:
                 study.enqueue_trial(start)
-            if settings.screen:
-                screened = screen(cfg, settings, slots=settings.trials - (start is not None))
+            if screened:
                 for action in screened.pop("actions"):
                     study.enqueue_trial({t.name: float(a) for t, a in zip(cfg.tunable, action)})
                 study.set_user_attr("screen", screened)
@@ -146,6 +152,10 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
         if failed:
             print(f"aero-env tune: trial(s) {', '.join(map(str, failed))} were left RUNNING by processes gone from "
                   f"this host: failed, and their designs queued again", file=sys.stderr, flush=True)
+        stopped = reconnect(lambda: requeue_unfinished(study))
+        if stopped:
+            print(f"aero-env tune: trial(s) {', '.join(map(str, stopped))} were stopped before they finished: their "
+                  f"designs queued again", file=sys.stderr, flush=True)
         done = len(reconnect(lambda: complete_trials(study)))
         remaining = max(0, settings.trials - done)
         with _Progress(settings.trials, done, enabled=settings.progress and remaining > 0) as bar:
@@ -155,7 +165,7 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
                 run_trials(cfg, settings, storage, name, remaining, 0, on_trial=lambda s, t: bar.update(s), ran=ran)
             elif remaining:
                 workers = run_workers(cfg, settings, url, name, remaining, study, bar)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as stop:
         wall = time.perf_counter() - t0
         partial, finished = None, 0
         try:
@@ -168,7 +178,7 @@ def tune(cfg: Config, settings: TuneSettings, config_name: str = "config") -> Tu
         except Exception as exc:  # the database is gone too: the study still holds what it held
             if not is_db_error(exc):
                 raise
-        raise TuneInterrupted(partial, url, name, finished, settings.trials) from None
+        raise TuneInterrupted(partial, url, name, finished, settings.trials, stop) from None
     wall = time.perf_counter() - t0
     return reconnect(lambda: _result(cfg, study, settings, url, name, wall, workers))
 

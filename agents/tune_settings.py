@@ -14,6 +14,16 @@ from .study_faults import RECONNECT_S
 DEFAULT_FILE_STORAGE = "sqlite:///aero-env-tune.db"  # used when a study must outlive the process
 
 
+def sqlite_file(url: str) -> str | None:
+    """The database file a ``sqlite://`` URL names, as SQLAlchemy reads it ("" for none; None for another scheme):
+    ``sqlite:///study.db`` is ``study.db``, ``sqlite:////abs/study.db`` is ``/abs/study.db``."""
+    scheme, _, rest = url.partition("://")
+    if scheme.split("+")[0] != "sqlite":
+        return None
+    path = rest.split("?")[0]
+    return path[1:] if path.startswith("/") else path
+
+
 @dataclass(frozen=True)
 class TuneSettings:
     """What ``aero-env tune`` was asked to do; every field is checked by :meth:`check`."""
@@ -47,6 +57,10 @@ class TuneSettings:
         if self.storage == "memory" and self.workers > 1:
             raise ConfigError(f"--storage memory with --workers {self.workers}: processes cannot share an "
                               f"in-memory study; give --storage sqlite:///FILE.db or a postgresql:// URL")
+        if self.storage is not None and sqlite_file(self.storage) in ("", ":memory:"):
+            # SQLite keeps such a database in memory: the study was gone after the run, and each worker had its own
+            raise ConfigError(f"--storage {self.storage!r}: names no file, so SQLite would keep the study in memory "
+                              f"and lose it when the run ends; give a file, e.g. --storage sqlite:///study.db")
         return self
 
     def resolved_storage(self) -> str:

@@ -25,6 +25,7 @@ from typing import Callable
 import numpy as np
 
 from aero_env.config import Config, from_dict
+from aero_env.signals import Terminated, signal_name
 
 from .design_eval import DesignEvaluator
 from .study_faults import Reconnect, StorageUnavailable, is_db_error
@@ -35,6 +36,7 @@ from .tune_settings import TuneSettings
 MAX_DEATHS = 8            # workers that may die in one run before the run stops (a design that kills them)
 POLL_S = 0.5              # a worker with nothing to start looks again this often
 STOP_S = 15.0             # Ctrl-C: how long the workers get to fail their trials before they are killed
+STOPPED = ("interrupt", "terminated", "storage", "error")  # how a worker's report ends the run
 
 
 # ---- a worker: trials in this process ----
@@ -172,42 +174,57 @@ def stop_stray_heartbeats(timeout: float = 5.0) -> int:
 # A Ctrl-C whose KeyboardInterrupt is raised while Python runs a garbage-collection callback (a weakref's, e.g.
 # SQLAlchemy's) cannot propagate: Python prints it as "Exception ignored in ..." with a traceback and goes on, and
 # the run would go on (a worker with Ctrl-C already ignored). While trials run, this hook keeps it instead, and
-# the next trial raises it.
-_KEPT_INTERRUPT = threading.Event()
+# the next trial raises it, of its kind (a SIGTERM's Terminated ends the run with 143, not Ctrl-C's 130).
+_KEPT_INTERRUPTS: list[KeyboardInterrupt] = []
 
 
 def keep_swallowed_interrupts(unraisable, passed_on: Callable | None = None) -> None:
     """``sys.unraisablehook`` while :func:`run_trials` runs: keep a KeyboardInterrupt Python could not raise (see
     above), without a word; pass everything else on to ``passed_on``, the hook it replaced (default: Python's)."""
     if isinstance(unraisable.exc_value, KeyboardInterrupt):
-        _KEPT_INTERRUPT.set()
+        _KEPT_INTERRUPTS.append(unraisable.exc_value)
         return
     (passed_on or sys.__unraisablehook__)(unraisable)
 
 
 def take_kept_interrupt() -> None:
-    """Raise the KeyboardInterrupt :func:`keep_swallowed_interrupts` kept, once."""
-    if _KEPT_INTERRUPT.is_set():
-        _KEPT_INTERRUPT.clear()
-        raise KeyboardInterrupt
+    """Raise the KeyboardInterrupt (or :class:`Terminated`) :func:`keep_swallowed_interrupts` kept first, once."""
+    if _KEPT_INTERRUPTS:
+        kept = type(_KEPT_INTERRUPTS[0])
+        _KEPT_INTERRUPTS.clear()
+        raise kept
+
+
+def stop_once_on_signals() -> None:
+    """A worker's Ctrl-C and SIGTERM from now on: the first raises (:func:`_interrupt_once`), the rest do nothing."""
+    signal.signal(signal.SIGINT, _interrupt_once)
+    signal.signal(signal.SIGTERM, _interrupt_once)  # Python's default would end it at once, its trial RUNNING
 
 
 def _interrupt_once(signum, frame):
-    """Ctrl-C in a worker: KeyboardInterrupt, and the next one ignored. A terminal's Ctrl-C reaches the worker
-    and then the coordinator's own (:func:`_stop_workers`): the second would cut Optuna failing the trial."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    raise KeyboardInterrupt
+    """Ctrl-C or SIGTERM in a worker: KeyboardInterrupt (:class:`Terminated` for SIGTERM), and every later one of
+    either ignored. A terminal's Ctrl-C, or a scheduler's SIGTERM to the whole job (SLURM), reaches the worker and
+    then the coordinator's own (:func:`_stop_workers`): the second would cut Optuna failing the trial."""
+    signal.signal(signal.SIGINT, _ignore_signal)
+    signal.signal(signal.SIGTERM, _ignore_signal)
+    raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
+
+
+def _ignore_signal(signum, frame):
+    """A later Ctrl-C or SIGTERM in a worker: nothing. Not SIG_IGN: one that arrived with the first (the job's SIGTERM
+    and the coordinator's SIGINT) is still pending when the first's handler runs, and Python reports a pending
+    signal whose handler became SIG_IGN as "Signal 15 ignored due to race condition", with a traceback."""
 
 
 def _worker_main(cfg_dict: dict, settings: TuneSettings, url: str, name: str, quota: int, index: int, queue) -> None:
-    signal.signal(signal.SIGINT, _interrupt_once)  # it started with Ctrl-C ignored (run_workers)
+    stop_once_on_signals()  # it started with Ctrl-C ignored (run_workers)
     ran: list[int] = []
     kind, err = "ok", None
     try:
         reconnect = Reconnect(settings.reconnect_s, f"worker w{index} (pid {os.getpid()})", url, name)
         run_trials(from_dict(cfg_dict), settings, reconnect(lambda: open_storage(url)), name, quota, index, ran=ran)
-    except KeyboardInterrupt:
-        kind, err = "interrupt", "interrupted"
+    except KeyboardInterrupt as stop:
+        kind, err = ("terminated" if isinstance(stop, Terminated) else "interrupt"), signal_name(stop)
     except StorageUnavailable as exc:
         kind, err = "storage", exc.why
     except BaseException as exc:  # reported by the parent, which names the worker
@@ -216,6 +233,12 @@ def _worker_main(cfg_dict: dict, settings: TuneSettings, url: str, name: str, qu
 
 
 # ---- the coordinator: worker processes ----
+
+class WorkersFailed(RuntimeError):
+    """The workers could not go on (one reported an error, or too many died): one line saying which and why; the
+    study keeps every trial they finished."""
+
+
 
 def _quiet_db(fn: Callable):
     """``fn()``, or None where the database cannot be reached just now (the workers retry; this can wait)."""
@@ -274,7 +297,8 @@ def _stop_workers(procs: list) -> None:
 def run_workers(cfg, settings, url, name, remaining, study, bar) -> list[dict]:
     """``settings.workers`` processes share the ``remaining`` trials. One that dies without a report (SIGKILL,
     OOM) has its RUNNING trial failed and queued again, and a new worker takes the rest of its share; on
-    Ctrl-C, or when one reports an error, all are stopped and what they left RUNNING is failed."""
+    Ctrl-C or SIGTERM (to this process, to a worker or to all), or when one reports an error, all are stopped and
+    what they left RUNNING is failed; the run then raises what stopped it (:class:`Terminated` for SIGTERM)."""
     ctx = mp.get_context("spawn")  # a clean interpreter per worker: no inherited sockets or threads
     reports = ctx.Queue()
     n = min(settings.workers, remaining)
@@ -318,7 +342,7 @@ def run_workers(cfg, settings, url, name, remaining, study, bar) -> list[dict]:
                     code = p.exitcode
                     how = f"killed by {signal.Signals(-code).name}" if code and code < 0 else f"exit status {code}"
                     if deaths > MAX_DEATHS:
-                        raise RuntimeError(f"tuning workers failed: {deaths} workers died ({how} the last); "
+                        raise WorkersFailed(f"tuning workers failed: {deaths} workers died ({how} the last); "
                                            f"see the study's FAIL trials for the designs they ran")
                     print(f"aero-env tune: worker {worker} died ({how}) after {len(mine)} trial(s)"
                           + (f"; trial(s) {', '.join(map(str, failed))} failed and queued again" if failed else "")
@@ -327,7 +351,7 @@ def run_workers(cfg, settings, url, name, remaining, study, bar) -> list[dict]:
                     if left > 0:
                         start(next_index, left)
                         next_index += 1
-            if any(e["kind"] in ("interrupt", "storage", "error") for e in ended.values()):
+            if any(e["kind"] in STOPPED for e in ended.values()):
                 break
             _quiet_db(lambda: bar.update(study))
     except BaseException:  # Ctrl-C (it reaches the workers too, from a terminal) or a failure here
@@ -338,13 +362,13 @@ def run_workers(cfg, settings, url, name, remaining, study, bar) -> list[dict]:
         _stop_workers([p for p, _ in procs.values()])
         collect(0.2)
     _quiet_db(lambda: fail_dead_trials(study))  # anything a stopped or dead worker left RUNNING
-    bad = [e for e in ended.values() if e["kind"] in ("interrupt", "storage", "error")]
+    bad = [e for e in ended.values() if e["kind"] in STOPPED]
     if any(e["kind"] == "storage" for e in bad):
         why = next(e["err"] for e in bad if e["kind"] == "storage")
         raise StorageUnavailable(url, name, settings.reconnect_s, why)
     if any(e["kind"] == "error" for e in bad):
         why = "; ".join(f"worker {e['worker']}: {e['err']}" for e in bad if e["kind"] == "error")
-        raise RuntimeError(f"tuning workers failed: {why}")
-    if bad:  # Ctrl-C reached the workers before this process
-        raise KeyboardInterrupt
+        raise WorkersFailed(f"tuning workers failed: {why}")
+    if bad:  # Ctrl-C or SIGTERM reached the workers before this process (or only them): stop as they did
+        raise Terminated if any(e["kind"] == "terminated" for e in bad) else KeyboardInterrupt
     return [dict(worker=e["worker"], trials=e["trials"]) for _, e in sorted(ended.items())]

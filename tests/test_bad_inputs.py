@@ -99,3 +99,20 @@ def test_the_tune_summary_names_the_card_pair_the_tuned_design_holds(paper_cfg):
                         first_full_row_trial=0, full_row=7, wall_time=1.0)
     lines = summary_lines(result, paper_cfg)
     assert "  design.mu_s = 0.507   (nearest card pair: white arm on white handrail, 0 % off)" in lines
+
+
+def test_workers_that_cannot_go_on_end_the_tune_in_one_line(tmp_path, monkeypatch, capsys):
+    """A worker's error (a study file damaged in the middle of a run, say) or too many deaths: one line saying so
+    and where the finished trials are, status 1; it was a RuntimeError traceback."""
+    from agents import tune
+    from agents.tune_workers import WorkersFailed
+
+    def failing(*_args, **_kwargs):
+        raise WorkersFailed("tuning workers failed: worker h:1:w0: DatabaseError: database disk image\nis malformed")
+
+    monkeypatch.setattr(tune, "tune", failing)
+    monkeypatch.chdir(tmp_path)
+    assert main(["tune", str(PAPER), "--storage", "sqlite:///s.db", "--workers", "2", "--no-progress"]) == 1
+    assert capsys.readouterr().err == ("aero-env tune: stopped: tuning workers failed: worker h:1:w0: DatabaseError: "
+                                       "database disk image is malformed; the study's finished trials are kept in "
+                                       "study 'paper-cmaes-s0' (sqlite:///s.db)\n")

@@ -138,6 +138,6 @@ def test_tunes_worker_processes_survive_a_design_at_every_edge(tmp_path):
     sets = [a for k, v in {**edges, **SHORT}.items() for a in ("--set", f"{k}={float(v) if k in edges else v!r}")]
     r = subprocess.run([sys.executable, "-m", "aero_env.cli", "tune", str(PAPER), *sets, "--trials", "4",
                         "--workers", "2", "--seeds-per-design", "1", "--no-progress", "--out",
-                        str(tmp_path / "best.yaml")], capture_output=True, text=True, timeout=600)
+                        str(tmp_path / "best.yaml")], cwd=tmp_path, capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr[-3000:]
     assert "study " in r.stdout and (tmp_path / "best.yaml").is_file()

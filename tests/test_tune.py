@@ -196,6 +196,7 @@ def test_cli_tune_json_yaml_and_plot(tmp_path):
     (["--trials", "0"], ["--trials", "0", "[1,"]),
     (["--workers", "2", "--storage", "memory"], ["--storage memory", "--workers 2", "sqlite"]),
     (["--storage", "nowhere"], ["--storage", "'nowhere'", "postgresql://"]),
+    (["--workers", "2", "--storage", "sqlite:///"], ["--storage 'sqlite:///'", "in memory", "sqlite:///study.db"]),
     (["--storage", "postgresql://nobody@127.0.0.1:1/none"], ["--storage", "cannot open"]),
 ])
 def test_cli_tune_bad_input_names_the_option(tmp_path, args, words):
@@ -285,6 +286,13 @@ except KeyboardInterrupt:
     print("raised at the next trial")
 take_kept_interrupt()  # once only
 print("and only once")
+from aero_env.signals import Terminated
+def sigterm(ref): raise Terminated
+t = Thing(); r = weakref.ref(t, sigterm); del t
+try:
+    take_kept_interrupt()
+except Terminated:   # of its kind: the run ends with SIGTERM's 143, not Ctrl-C's 130
+    print("a SIGTERM stays one")
 import functools
 from agents.tune_workers import keep_swallowed_interrupts as keep
 sys.unraisablehook = functools.partial(keep, passed_on=lambda u: print("passed on", type(u.exc_value).__name__))
@@ -293,8 +301,8 @@ t = Thing(); r = weakref.ref(t, other); del t  # anything else goes to the hook 
 """
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60,
                          cwd=Path(__file__).resolve().parent.parent)
-    assert out.stdout.split("\n")[:4] == ["went on", "raised at the next trial", "and only once",
-                                           "passed on ValueError"], out
+    assert out.stdout.split("\n")[:5] == ["went on", "raised at the next trial", "and only once",
+                                           "a SIGTERM stays one", "passed on ValueError"], out
     assert out.stderr == ""  # no "Exception ignored", no traceback
 
 
