@@ -271,7 +271,9 @@ def test_a_tuned_value_reads_as_a_maker_reads_it(paper_cfg):
     assert workbench("design.m3", 0.00747632, paper_cfg) == "7 one-yen coins + 0.48 g clay (7.48 g)"
     assert workbench("design.m1", 0.0024, paper_cfg) == "2.40 g"
     assert workbench("design.spring_k", 1.3232e-3, paper_cfg) == "1.323 N·mm/rad"
-    assert workbench("design.mu_s", 0.29, paper_cfg).startswith("nearest card pair: gray arm on gray handrail")
+    # a friction is read with its own design's mu_k: 0.29/0.15 is gray/gray (0.283/0.149), 2 % off in mu_s
+    gray = paper_cfg.with_values({"design.mu_s": 0.29, "design.mu_k": 0.15})
+    assert workbench("design.mu_s", 0.29, gray) == "nearest card pair: gray arm on gray handrail, 2 % off"
     assert workbench("design.rest_angle_deg", 55.0, paper_cfg) == ""
 
 
