@@ -45,10 +45,11 @@ import json
 import re
 import sys
 import time
-import warnings
 from pathlib import Path
 
 import numpy as np
+
+from aero_env.intervals import BOOTSTRAP_REPS, block_shares, iqm_interval
 
 from rl_holdout import CONFIG, SCENE, SINGLE, holdout_seeds, single_action, watch_seeds
 from rl_policies import (FINISH_EPISODES, MAP_METHODS, METHODS as TRAINED, RL_METHODS, check_pretrained, check_training_ranges,
@@ -59,32 +60,6 @@ METHODS = ("prototype", "single", *MAP_METHODS, "nearest-neighbour", "ppo", "sac
 POLICIES = "policies/contexts"
 STRATA = 10        # blocks of hold-out contexts: the "tasks" of rliable's stratified bootstrap
 NOISE = 1e-6       # the knife-edge test's action noise
-BOOTSTRAP_REPS = 20_000
-
-
-def iqm_interval(shares: np.ndarray, seed: int = 0) -> tuple[float, list[float]]:
-    """IQM and 95 % stratified-bootstrap interval (rliable) of ``shares`` (runs x blocks of contexts)."""
-    from rliable import library as rly, metrics
-
-    scores = {"m": np.asarray(shares, dtype=np.float64)}
-    # rliable 1.2 resamples with numpy's global generator whatever random_state says (np.random.choice in
-    # StratifiedBootstrap.update_indices), so the interval is made reproducible by seeding that, then restoring it
-    kept = np.random.get_state()
-    np.random.seed(seed)
-    try:
-        with warnings.catch_warnings():  # arch 7 warns that the random_state= rliable passes will go
-            warnings.filterwarnings("ignore", "random_state is deprecated", FutureWarning)
-            point, ci = rly.get_interval_estimates(scores, lambda x: np.array([metrics.aggregate_iqm(x)]),
-                                                   reps=BOOTSTRAP_REPS, task_bootstrap=True,
-                                                   random_state=np.random.RandomState(seed))
-    finally:
-        np.random.set_state(kept)
-    return float(point["m"][0]), [float(ci["m"][0][0]), float(ci["m"][1][0])]
-
-
-def block_shares(whole_rows: np.ndarray, strata: int) -> np.ndarray:
-    """Per run, the whole-row share in each of ``strata`` consecutive blocks of hold-out contexts."""
-    return np.array([[float(np.mean(b)) for b in np.array_split(row, strata)] for row in whole_rows])
 
 
 def single_record() -> dict:

@@ -3,6 +3,7 @@ line naming the likely slip; a YAML mapping naming a key twice, in a file or a `
 
 from __future__ import annotations
 
+import math
 import os
 import subprocess
 import sys
@@ -166,3 +167,117 @@ def test_set_values_without_duplicates_read_as_before():
         "scene.effects", {"drag": True, "friction": "static"})
     assert parse_override("design.m3=7.2e-3g") == ("design.m3", "7.2e-3g")
     assert parse_override("design.m3={oops") == ("design.m3", "{oops")  # not YAML: the text itself, as before
+
+
+# ---- 3. every band, and the degree rule, on every key it covers ----
+# The bands as aero_env/config/plausible.py states them, written out: a mass, a length, a spring stiffness or a
+# torque reads as a slip beyond 30x either way of the prototype's; a slip of g for kg, mm for m or N·mm for N·m is
+# 1000x. Keyed by the SI unit the keys declare (configs are SI): a band keyed by another spelling ("N·mm/rad")
+# would check no key.
+BANDS = {"kg": (30.0, "mass"), "m": (30.0, "length"), "N·m/rad": (30.0, "spring stiffness"), "N·m": (30.0, "torque")}
+
+
+def _keys(select):
+    from aero_env.config.sections import real_field, real_keys
+
+    return [k for k in real_keys() if select(real_field(k, "key"))]
+
+
+def _unsigned(f) -> bool:
+    return f.metadata["lo"] is not None and f.metadata["lo"] >= 0
+
+
+BANDED = _keys(lambda f: f.metadata["unit"] in BANDS and _unsigned(f) and f.default)
+SIGNED = _keys(lambda f: f.metadata["unit"] in BANDS and not _unsigned(f))
+DEGREES = _keys(lambda f: f.metadata["unit"] == "deg")
+UNBANDED = _keys(lambda f: f.metadata["unit"] not in BANDS and f.metadata["unit"] != "deg")
+
+
+def _allowed(key, value) -> bool:
+    from aero_env.config.sections import real_field
+
+    m = real_field(key, "key").metadata
+    return (m["lo"] is None or value > m["lo"] or (value == m["lo"] and not m.get("lo_open"))) and (
+        m["hi"] is None or value <= m["hi"])
+
+
+def test_the_bands_are_keyed_by_the_units_the_keys_declare():
+    from aero_env.config.plausible import PLAUSIBLE_BANDS
+
+    assert {u: (b.factor, b.noun) for u, b in PLAUSIBLE_BANDS.items()} == BANDS
+    assert {u for u in BANDS} == {_field_unit(k) for k in BANDED}  # every band checks keys, every such key a band
+    assert {"design.m3", "design.La", "design.spring_k", "design.pivot_friction"} <= set(BANDED)
+
+
+def _field_unit(key):
+    from aero_env.config.sections import real_field
+
+    return real_field(key, "key").metadata["unit"]
+
+
+@pytest.mark.parametrize("key", BANDED)
+def test_every_banded_key_warns_past_its_band_and_not_inside_it(key):
+    """1000x (a unit slip) and 31x either way warn, naming the kind of quantity; 29x and 10x do not. Each side
+    where the key's range allows the value; every key is checked on at least one side."""
+    from aero_env.config.plausible import unit_slips
+    from aero_env.config.sections import real_field
+
+    prototype = real_field(key, "key").default
+    factor, noun = BANDS[_field_unit(key)]
+    warned = 0
+    for times in (1000.0, 1 / 1000.0, factor * 1.04, 1 / (factor * 1.04)):
+        value = prototype * times
+        if _allowed(key, value):
+            messages = unit_slips({key: value})
+            assert len(messages) == 1, (key, value, messages)
+            message = messages[0]
+            assert message.startswith(f"{key} = {value!r} ") and f"beyond the {factor:g}x either way of any {noun} " \
+                                                                  f"that can swing (run as given)" in message, message
+            warned += 1
+    assert warned >= 1, key  # every key on one side at least (its range may hold the band's edge and no slip)
+    for times in (factor * 0.96, 1 / (factor * 0.96), 10.0, 0.1, 1.0):
+        value = prototype * times
+        if _allowed(key, value):
+            assert unit_slips({key: value}) == [], (key, value)
+
+
+@pytest.mark.parametrize("key", SIGNED)
+def test_a_signed_offset_is_never_a_slip(key):
+    from aero_env.config.plausible import unit_slips
+
+    for value in (1e-9, -1e-9, 1e-6, -0.09):
+        if _allowed(key, value):
+            assert unit_slips({key: value}) == []
+
+
+@pytest.mark.parametrize("key", DEGREES)
+def test_every_angle_in_degrees_warns_when_given_in_radians(key):
+    """The degree rule on every _deg key: a plain number below 3.2 reads as radians where the prototype's angle is
+    10 deg or more (every key's is); 3.2 and more, or a value with its unit written, does not warn."""
+    from aero_env.config.plausible import unit_slips
+    from aero_env.config.sections import real_field
+
+    prototype = real_field(key, "key").default
+    assert abs(prototype) >= 10.0
+    for value in (math.radians(prototype), 3.1416, 0.5, -0.5):
+        if _allowed(key, value):
+            messages = unit_slips({key: value})
+            assert len(messages) == 1, (key, value, messages)
+            message = messages[0]
+            assert message.startswith(f"{key} = {value:g}: an angle in degrees (the prototype's is {prototype:g} deg)")
+            assert f"{value:g} rad is {math.degrees(value):.3g} deg" in message
+    for value in (3.2, -3.2, prototype, "0.5 rad", "2 deg"):
+        if isinstance(value, str) or _allowed(key, value):
+            assert unit_slips({key: value}) == [], (key, value)
+
+
+@pytest.mark.parametrize("key", UNBANDED)
+def test_keys_of_other_kinds_are_not_checked(key):
+    """Friction coefficients, air density, the drag coefficient: no band (plausible.py's comment)."""
+    from aero_env.config.plausible import unit_slips
+    from aero_env.config.sections import real_field
+
+    prototype = real_field(key, "key").default
+    for value in (prototype * 1000, prototype / 1000):
+        if value and _allowed(key, value):
+            assert unit_slips({key: value}) == []

@@ -8,6 +8,7 @@ import sys
 
 import numpy as np
 import pytest
+from scipy.stats import trim_mean
 
 from aero_env.config import ConfigError, load_config
 from aero_env.design_space import DesignSpace
@@ -217,6 +218,7 @@ def test_rl_vs_tuning_rescores_the_shipped_policies_on_the_holdout_contexts_it_n
     assert by["single"]["episodes"] == 1200 * 32 and by["ppo"]["seeds"] == 2 and by["ppo"]["trained_at"] == "mbd"
     env = AerialAcrobatEnv(cfg)
     obs = np.array([env.reset(seed=s)[0] for s in seeds])
+    per_seed = []
     for k in (0, 1):
         model, _, _ = load_run(ROOT / "policies" / "contexts" / "ppo" / f"seed{k}")
         actions = model.predict(obs, deterministic=True)[0]  # one batch, as the benchmark asks the policy
@@ -225,6 +227,13 @@ def test_rl_vs_tuning_rescores_the_shipped_policies_on_the_holdout_contexts_it_n
             env.reset(seed=s)
             whole.append(env.step(a)[4]["traversals"] >= 4)
         assert by["ppo"]["per_seed"][k] == pytest.approx(np.mean(whole))
+        per_seed.append(whole)
+    # 6 hold-out contexts in min(10, 6) blocks of one: the IQM is the trimmed mean (25 % off each end) of the whole
+    # rows played here, seeds x contexts; and every row's IQM lies inside its interval, itself inside [0, 1]
+    assert by["ppo"]["iqm"] == pytest.approx(trim_mean(np.array(per_seed, dtype=float).ravel(), 0.25), abs=1e-12)
+    for row in by.values():
+        lo, hi = row["ci"]
+        assert 0.0 <= lo <= row["iqm"] <= hi <= 1.0, row["method"]
     # the search starts from the single design and keeps only what beats it, on these very episodes
     assert by["oracle"]["mean"] >= by["single"]["mean"] and by["oracle"]["solved"] == round(6 * by["oracle"]["mean"])
     bad = subprocess.run([sys.executable, "benchmarks/rl_vs_tuning.py", "--holdout", "0"], capture_output=True,

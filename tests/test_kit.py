@@ -9,6 +9,7 @@ model field must add up to the config's value. For the prototype and every store
 
 import json
 import math
+import os
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -21,6 +22,13 @@ ROOT = Path(__file__).resolve().parents[1]
 SVG = "{http://www.w3.org/2000/svg}"
 CONFIGS = [ROOT / "configs/paper.yaml", *sorted((ROOT / "configs/scenes/solutions").glob("*.yaml"))]
 GRAMMAGE = 0.310  # kg/m²: the paper's card, JOHOKU WB310g (Sec. 6), written out here
+
+def per_test_under_mutmut(fixture_name, config) -> str:
+    """A fixture's scope: the module's, but each test's own under mutmut (scripts/mutation.py). mutmut runs, for a
+    mutant, only the tests it saw reach the function it changed; a module's fixture reaches the kit once, in the
+    first test that asks for it, and the other tests that read what it made would never run on a mutant."""
+    return "function" if "MUTANT_UNDER_TEST" in os.environ else "module"
+
 
 
 def _outline(el) -> tuple[float, tuple[float, float, float, float]]:
@@ -64,7 +72,7 @@ def card_areas(svg_path) -> dict[str, float]:
     return out
 
 
-@pytest.fixture(scope="module", params=CONFIGS, ids=lambda p: p.stem)
+@pytest.fixture(scope=per_test_under_mutmut, params=CONFIGS, ids=lambda p: p.stem)
 def kit(request, tmp_path_factory):
     d = tmp_path_factory.mktemp(request.param.stem)
     assert main(["sheet", str(request.param), "--out", str(d / "template.svg")]) == 0

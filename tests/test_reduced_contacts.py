@@ -381,3 +381,71 @@ def test_world_contacts_lists_the_steep_kick_and_refuses_a_bad_window_in_one_lin
     assert impulse(kick, "frame1.back") > 3.0 * impulse(before, "frame0.back")
     assert script.main([PAPER, "--from", "1", "--to", "0.5"]) == 2
     assert capsys.readouterr().err.strip().count("\n") == 0
+
+
+# ---- the next card's impulse, worked by hand ----
+# next_card.card_impulse on a contact whose mass matrix is given: the rates (w1, ws) change by M^-1 J^T·impulse,
+# M = diag(2, 0.5) here, the contact's normal rate 1·w1 + 0.5·ws and its rate along the card 0.2·w1 + 1·ws. Then
+# K = J M^-1 J^T: Knn = 1·0.5·1 + 0.5·2·0.5 = 1.0, Knt = 1·0.5·0.2 + 0.5·2·1 = 1.1, Ktt = 0.2·0.5·0.2 + 1·2·1 = 2.02.
+# (unit_impulse, which solves the hooked mass matrix, is replaced by this one: the test is of the Coulomb impact.)
+J_N, J_T = (1.0, 0.5), (0.2, 1.0)
+M_INV = (0.5, 2.0)
+
+
+def _card_impulse(monkeypatch, vn, vt, mu_s, mu_k, slip_speed=0.01, j_t=J_T):
+    from aero_env.models.reduced import next_card
+    from aero_env.models.reduced.layout import P
+
+    def unit_impulse(p, x, jth, js, slide_free):
+        d0, ds = M_INV[0] * jth, M_INV[1] * js
+        return d0, ds, 0.0, 0.0, jth * d0 + js * ds
+
+    monkeypatch.setattr(next_card, "unit_impulse", unit_impulse)  # the plain-Python function looks it up
+    p = np.zeros(len(P))
+    p[P.mu_s], p[P.mu_k], p[P.slip_speed] = mu_s, mu_k, slip_speed
+    return next_card.card_impulse.py_func(p, np.zeros(1), *J_N, *j_t, vn, vt, True)
+
+
+def test_the_next_card_stops_a_slip_its_static_cone_holds(monkeypatch):
+    """Slipping slower than sim.slip_speed, the cone is mu_s's: the impulse that stops the slip (and the approach)
+    lies in it. Solving Knn·ln + Knt·lt = 1, Knt·ln + Ktt·lt = -0.005 (det 0.81): ln = 2.0255/0.81, lt = -1.105/0.81,
+    |lt|/ln = 0.546, inside mu_s 0.6 and outside mu_k 0.3."""
+    ln, lt = _card_impulse(monkeypatch, vn=-1.0, vt=0.005, mu_s=0.6, mu_k=0.3)
+    assert (ln, lt) == pytest.approx((2.0255 / 0.81, -1.105 / 0.81), rel=1e-12)
+    assert -1.0 + 1.0 * ln + 1.1 * lt == pytest.approx(0.0, abs=1e-12)  # the approach stopped
+    assert 0.005 + 1.1 * ln + 2.02 * lt == pytest.approx(0.0, abs=1e-12)  # the slip stopped
+
+
+def test_the_next_cards_sliding_impulse_is_kinetic_friction(monkeypatch):
+    """Slipping at 2 m/s (faster than slip_speed) the stopping impulse, ln = 4.22/0.81, lt = -3.1/0.81
+    (|lt|/ln = 0.73), lies outside the kinetic cone (mu_k 0.3), though inside the static one (mu_s 0.8): the hook
+    slides on, and the card's friction is mu_k·ln against the slip, with ln what stops the approach:
+    -1 + Knn·ln - Knt·mu_k·ln = 0, ln = 1/(1 - 0.33) = 1/0.67. With mu_s there it would be 1/(1 - 0.88) = 1/0.12,
+    eight times as large; with mu_s's cone the slip would stop."""
+    ln, lt = _card_impulse(monkeypatch, vn=-1.0, vt=2.0, mu_s=0.8, mu_k=0.3)
+    assert ln == pytest.approx(1 / 0.67, rel=1e-12) and lt == pytest.approx(-0.3 / 0.67, rel=1e-12)
+    assert -1.0 + 1.0 * ln + 1.1 * lt == pytest.approx(0.0, abs=1e-12)  # inelastic along the normal
+    assert abs(lt) == pytest.approx(0.3 * ln, rel=1e-12)  # kinetic friction, against the slip
+    # the same slip the other way: the friction turns with it (sg = -1: ln = 1/(1 + 0.33))
+    ln, lt = _card_impulse(monkeypatch, vn=-1.0, vt=-2.0, mu_s=0.8, mu_k=0.3)
+    assert ln == pytest.approx(1 / 1.33, rel=1e-12) and lt == pytest.approx(0.3 / 1.33, rel=1e-12)
+
+
+def test_a_slow_slip_outside_the_static_cone_slides_with_kinetic_friction(monkeypatch):
+    """Below slip_speed but outside mu_s's cone (mu_s 0.5 < 0.546): it slides, and the sliding friction is still
+    mu_k's: ln = 1/(1 - 0.3·1.1)."""
+    ln, lt = _card_impulse(monkeypatch, vn=-1.0, vt=0.005, mu_s=0.5, mu_k=0.3)
+    assert (ln, lt) == pytest.approx((1 / 0.67, -0.3 / 0.67), rel=1e-12)
+
+
+def test_a_contact_held_in_place_slides_with_kinetic_friction_or_jams_frictionless(monkeypatch):
+    """Along the card the same direction as the normal's, (2, 1) = 2·(1, 0.5): K is singular (Knn 1, Knt 2, Ktt 4),
+    no impulse stops the slip apart from the approach (the hook held at s). It slides: ln = 1/(1 - 2·mu_k) with
+    mu_k 0.3, 2.5; with mu_k 0.5 and more no normal impulse stops the approach against the friction (1 - 2·mu_k
+    <= 0): a frictionless impact, ln = 1/Knn."""
+    held = (2.0, 1.0)
+    assert _card_impulse(monkeypatch, vn=-1.0, vt=2.0, mu_s=0.9, mu_k=0.3, j_t=held) == pytest.approx((2.5, -0.75),
+                                                                                                    rel=1e-12)
+    assert _card_impulse(monkeypatch, vn=-1.0, vt=2.0, mu_s=0.9, mu_k=0.5, j_t=held) == (1.0, 0.0)
+    assert _card_impulse(monkeypatch, vn=-1.0, vt=2.0, mu_s=0.9, mu_k=0.6, j_t=held) == (1.0, 0.0)
+    assert _card_impulse(monkeypatch, vn=-1.0, vt=0.0, mu_s=0.9, mu_k=0.3, j_t=held) == (1.0, 0.0)  # no slip

@@ -333,9 +333,14 @@ def uprights(cfg) -> list[Piece]:
     w, foot = UPRIGHT_WIDTH, 10.0
     out = []
     low = (s.floor_drop + min(0.0, (s.frames - 1) * s.rise)) * MM
-    if low < foot:  # a descending row that ends at or below the base: there is no upright to cut
+    if low < foot:  # the lowest axis at or below the foot: there is no upright to cut
         from ..config import ConfigError
 
+        if s.floor_drop * MM < foot:  # the first axis itself: no rise can lift it
+            raise ConfigError(f"scene.floor_drop = {s.floor_drop!r}: the first axis would stand "
+                              f"{s.floor_drop * MM:.1f} mm above the base; the stand needs at least {foot:.0f} mm, "
+                              f"allowed floor_drop >= {foot / MM:g} m")
+        # a descending row that ends at or below the base
         raise ConfigError(f"scene.rise = {s.rise!r}: over {s.frames} frames the last axis would stand {low:.1f} mm "
                           f"above the base (scene.floor_drop = {s.floor_drop!r}); the stand needs at least "
                           f"{foot:.0f} mm, allowed rise >= {(foot / MM - s.floor_drop) / (s.frames - 1):.4g} m")
