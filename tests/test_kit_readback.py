@@ -1088,6 +1088,12 @@ def test_a_first_axis_lower_than_the_stands_foot_is_refused_naming_floor_drop(tm
     else:
         assert status == 0
         assert "frame 0's axis 10.0 mm above the base" in read_template(tmp_path / "t.svg")["part-upright-first"][0]
+    # at exactly 10 mm on a descending row it is the rise that takes the last axis below the foot: named so
+    capsys.readouterr()
+    status = main(["sheet", str(PAPER), "--out", str(tmp_path / "d.svg"), "--set", f"scene.floor_drop={floor_drop}",
+                   "--set", "scene.rise=-0.001"])
+    assert status == 2 and capsys.readouterr().err.startswith(
+        "aero-env: config error: scene.floor_drop = 0.005" if refused else "aero-env: config error: scene.rise = -0.001")
 
 
 def _rows(cfg) -> dict:
