@@ -72,7 +72,7 @@ def fit_map(runner: EpisodeRunner, kind: str, seed: int, episodes: int, start: n
     (per generation: episodes so far, the population's mean and best reward). ``start``: the design the search
     starts from, for every context (a tuned single design); default the box's centre.
 
-    Generation g plays the training contexts of episode seeds ``seed_base·(seed+1) + g·contexts`` onward, the
+    Generation g plays the training contexts of episode seeds ``map_block_start(seed) + g·contexts`` onward, the
     same ones for every candidate (:func:`map_seed_span` gives the whole range). A budget too small for one
     generation is refused."""
     from cmaes import CMA
@@ -89,7 +89,7 @@ def fit_map(runner: EpisodeRunner, kind: str, seed: int, episodes: int, start: n
                          f"{contexts} contexts = {lam * contexts} episodes")
     history, used, g = [], 0, 0
     while used + lam * contexts <= episodes:
-        first = seed_base * (seed + 1) + g * contexts
+        first = map_block_start(seed, seed_base) + g * contexts
         draws = draws_for_seeds(space, range(first, first + contexts))
         obs = runner.observations(draws)
         cands = [opt.ask() for _ in range(lam)]
@@ -104,6 +104,23 @@ def fit_map(runner: EpisodeRunner, kind: str, seed: int, episodes: int, start: n
     return m, history
 
 
+MAP_SEEDS = 10  # a map's training seeds 0-9 each have their own block of training contexts
+
+
+def map_block_start(seed: int, seed_base: int = 10_000) -> int:
+    """The first episode seed of training seed ``seed``'s block of contexts. Seeds 0-4 start at ``seed_base·(seed+1)``
+    (their shipped maps were fitted there); seeds 5-9 take the upper half of those blocks, ``seed_base/2`` later:
+    10 blocks of ``seed_base/2`` seeds, none shared (:func:`map_block_size`)."""
+    if not 0 <= seed < MAP_SEEDS:
+        raise ValueError(f"seed = {seed}: a map's training seeds are 0-{MAP_SEEDS - 1}")
+    return seed_base * (seed % 5 + 1) + seed_base // 2 * (seed // 5)
+
+
+def map_block_size(seed_base: int = 10_000) -> int:
+    """Episode seeds in each training seed's block of contexts (a fit must end inside its block)."""
+    return seed_base // 2
+
+
 def map_seed_span(kind: str, dim: int, obs_dim: int, seed: int, episodes: int, contexts: int = 64,
                   seed_base: int = 10_000, hidden: int = 8) -> tuple[int, int]:
     """The episode seeds [first, last] that :func:`fit_map` draws its training contexts from."""
@@ -112,7 +129,7 @@ def map_seed_span(kind: str, dim: int, obs_dim: int, seed: int, episodes: int, c
     size = ParamMap(kind, obs_dim, dim, hidden).size
     lam = CMA(mean=np.zeros(size), sigma=MAP_STEP).population_size
     generations = episodes // (lam * contexts)
-    first = seed_base * (seed + 1)
+    first = map_block_start(seed, seed_base)
     return first, first + generations * contexts - 1
 
 

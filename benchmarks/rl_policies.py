@@ -231,17 +231,20 @@ def check_training_ranges(prog: str, methods, seeds, map_episodes: int, nn_conte
     a context, and none reaches the watch or hold-out sets; a setting that would is refused in one line."""
     from aero_env.config import load_config
     from aero_env.design_space import DesignSpace
-    from agents.context_maps import map_seed_span
+    from agents.context_maps import MAP_SEEDS, map_block_size, map_seed_span
 
     space = DesignSpace(load_config(CONFIG))
     for method in methods:
         if method in MAP_METHODS:
+            if max(seeds) >= MAP_SEEDS:
+                sys.exit(f"{prog}: --seeds {max(seeds)}: a map's training seeds are 0-{MAP_SEEDS - 1} (each has its "
+                         f"own block of training contexts)")
             for seed in seeds:
                 first, last = map_seed_span(MAP_METHODS[method], space.dim, space.obs_dim, seed, map_episodes)
                 if last < first:
                     sys.exit(f"{prog}: --map-episodes = {map_episodes}: too few for one CMA-ES generation of "
                              f"{method} (64 contexts x its population)")
-                end = min(first + 10_000, NN_BASE)  # the next seed's block, or nearest neighbour's
+                end = min(first + map_block_size(), NN_BASE)  # the next seed's block, or nearest neighbour's
                 if last >= end:
                     sys.exit(f"{prog}: --seeds {seed} with --map-episodes {map_episodes}: {method} would draw "
                              f"training contexts {first}..{last}, past its block (below {end})")

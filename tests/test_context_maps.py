@@ -143,3 +143,23 @@ def test_a_search_calls_a_context_solved_only_for_a_whole_row_and_keeps_its_best
     assert found.solved.tolist() == (replay >= 4).tolist() and found.solved[1] and found.evaluations[1] == 1
     assert found.evaluations[0] > 1  # three traversals is not the row: the search went on
     assert (found.evaluations <= 81).all() and runner.episodes - len(targets) == found.evaluations.sum()
+
+
+def test_each_of_ten_map_seeds_has_its_own_block_of_training_contexts():
+    """Seeds 0-4 keep the blocks their shipped maps were fitted on, 10,000·(seed+1) onward; seeds 5-9 take the
+    upper halves, 5,000 later. At the shipped budget no two seeds' training contexts meet, and all lie below nearest
+    neighbour's contexts (60,000 onward); a seed past 9 has no block."""
+    from agents.context_maps import map_block_start, map_seed_span
+
+    assert [map_block_start(k) for k in range(10)] == [10_000, 20_000, 30_000, 40_000, 50_000,
+                                                        15_000, 25_000, 35_000, 45_000, 55_000]
+    from aero_env.design_space import DesignSpace
+
+    space = DesignSpace(load_config(PAPER.parent / "contexts.yaml"))
+    for kind in ("linear", "mlp"):
+        spans = sorted(map_seed_span(kind, space.dim, space.obs_dim, k, 40_960) for k in range(10))
+        for (_, last), (nxt, _) in zip(spans, spans[1:]):
+            assert last < nxt, kind
+        assert spans[-1][1] < 60_000 and spans[0][0] == 10_000
+    with pytest.raises(ValueError, match="seed = 10: a map's training seeds are 0-9"):
+        map_block_start(10)
