@@ -8,9 +8,20 @@ interval: the shares p for which the count seen is within 1.96 standard errors o
 inside [0, 1] and keeps its coverage at shares near 1, where the normal approximation
 (``p ± 1.96·sqrt(p(1-p)/n)``) gives a zero-width interval at 100 %.
 
-A benchmark over training seeds (``benchmarks/rl_vs_tuning.py``) reports a method's share as the interquartile
-mean over (seeds x blocks of contexts), :func:`block_shares`, with rliable's stratified-bootstrap interval,
-:func:`iqm_interval`. rliable is in the ``bench`` and ``test`` extras only, so it is imported there, when asked.
+A benchmark over training seeds (``benchmarks/rl_vs_tuning.py``) plays every seed of a method on the same
+hold-out contexts: its outcomes are a matrix, seeds x contexts, with two sources of chance, which seeds training
+drew and which contexts the hold-out set drew. Its share is the plain mean of that matrix, and
+:func:`seeds_then_contexts` gives its 95 % interval by a two-level bootstrap: the seeds are drawn again with
+replacement, then the contexts, and the drawn seeds play the drawn contexts. Because every seed played the same
+contexts, one draw of contexts serves all the seeds of a resample (a context hard for one seed is hard for all:
+drawn apart for each seed it would count as independent ones, and the interval would narrow by up to sqrt(seeds)
+where context difficulty dominates; ``contexts="per seed"`` gives that interval, for comparison).
+:func:`difference_interval` gives the same for the difference between two methods, paired on the contexts (both
+played them) and not on the seeds (one method's seed 3 has nothing to do with another's).
+
+:func:`iqm_interval` is rliable's interquartile mean with its stratified-bootstrap interval, over runs: the
+benchmark gives it over the per-seed shares, a typical training run's share with the best and worst quarter of
+the seeds set aside. rliable is in the ``bench`` and ``test`` extras only, so it is imported there, when asked.
 """
 
 from __future__ import annotations
@@ -39,12 +50,13 @@ def interval_text(bounds) -> str:
     return "-" if bounds is None else f"{100 * bounds[0]:.1f}-{100 * bounds[1]:.1f}"
 
 
-BOOTSTRAP_REPS = 20_000  # rliable's bootstrap resamples for an IQM's interval
+BOOTSTRAP_REPS = 20_000  # bootstrap resamples for a benchmark's intervals
 
 
 def iqm_interval(shares: np.ndarray, seed: int = 0, reps: int = BOOTSTRAP_REPS) -> tuple[float, list[float]]:
-    """IQM and 95 % stratified-bootstrap interval (rliable) of ``shares`` (runs x blocks of contexts). The IQM is the
-    mean of the middle half of all the values (scipy's ``trim_mean(x, 0.25)`` over the flattened array)."""
+    """IQM and 95 % stratified-bootstrap interval (rliable) of ``shares`` (runs x tasks; the benchmark gives one
+    column, each training seed's share). The IQM is the mean of the middle half of all the values (scipy's
+    ``trim_mean(x, 0.25)`` over the flattened array)."""
     from rliable import library as rly, metrics
 
     scores = {"m": np.asarray(shares, dtype=np.float64)}
@@ -63,6 +75,70 @@ def iqm_interval(shares: np.ndarray, seed: int = 0, reps: int = BOOTSTRAP_REPS) 
     return float(point["m"][0]), [float(ci["m"][0][0]), float(ci["m"][1][0])]
 
 
-def block_shares(whole_rows: np.ndarray, strata: int) -> np.ndarray:
-    """Per run, the whole-row share in each of ``strata`` consecutive blocks of hold-out contexts."""
-    return np.array([[float(np.mean(b)) for b in np.array_split(row, strata)] for row in whole_rows])
+def _outcome_matrix(outcomes, name: str) -> np.ndarray:
+    m = np.asarray(outcomes, dtype=np.float64)
+    if m.ndim != 2 or m.size == 0 or not np.isfinite(m).all():
+        raise ValueError(f"{name}: need a finite seeds x contexts matrix with at least one of each, got shape "
+                         f"{m.shape}")
+    return m
+
+
+def _draw_counts(rng: np.random.Generator, n: int, size: int) -> np.ndarray:
+    """How often each of ``n`` items is drawn in ``size`` resamples of ``n`` draws with replacement (rows of
+    multinomial counts, the same law as counting ``n`` uniform indices)."""
+    return rng.multinomial(n, np.full(n, 1.0 / n), size=size).astype(np.float64)
+
+
+CHUNK = 2_000  # resamples drawn at once (bounds the memory of a per-seed draw of contexts)
+
+
+def seeds_then_contexts(outcomes, seed: int = 0, reps: int = BOOTSTRAP_REPS,
+                        contexts: str = "shared") -> tuple[float, list[float]]:
+    """The mean of ``outcomes`` (training seeds x hold-out contexts; 1 = a whole row) and its 95 % percentile
+    interval by a bootstrap over seeds, then contexts (module docstring). ``contexts="shared"``: one draw of
+    contexts per resample, played by every seed drawn (the seeds played the same contexts); ``"per seed"``: a draw
+    for each seed slot. Reproducible by ``seed``."""
+    m = _outcome_matrix(outcomes, "seeds_then_contexts")
+    if contexts not in ("shared", "per seed"):
+        raise ValueError(f"seeds_then_contexts: contexts = {contexts!r}: 'shared' or 'per seed'")
+    rng = np.random.default_rng(seed)
+    s, c = m.shape
+    stats = []
+    for start in range(0, reps, CHUNK):
+        size = min(CHUNK, reps - start)
+        picks = rng.integers(0, s, size=(size, s))  # the seeds drawn, slot by slot
+        if contexts == "shared":
+            counts = _draw_counts(rng, c, size)  # (size, C)
+            per_seed = m @ counts.T / c  # (S, size): each seed's share on the drawn contexts
+            stats.append(np.take_along_axis(per_seed.T, picks, axis=1).mean(axis=1))
+        else:
+            counts = _draw_counts(rng, c, size * s).reshape(size, s, c)  # a draw of contexts per slot
+            stats.append(np.einsum("rkc,rkc->rk", m[picks], counts).mean(axis=1) / c)
+    return float(m.mean()), _percentiles(np.concatenate(stats))
+
+
+def difference_interval(a, b, seed: int = 0, reps: int = BOOTSTRAP_REPS) -> tuple[float, list[float]]:
+    """The difference of the means of two methods' ``outcomes`` (each seeds x the same hold-out contexts), a - b,
+    and its 95 % interval: each method's seeds drawn on their own, one draw of contexts shared by both (paired on
+    the contexts both played)."""
+    ma, mb = _outcome_matrix(a, "difference_interval"), _outcome_matrix(b, "difference_interval")
+    if ma.shape[1] != mb.shape[1]:
+        raise ValueError(f"difference_interval: {ma.shape[1]} and {mb.shape[1]} contexts: both methods must have "
+                         f"played the same hold-out contexts")
+    rng = np.random.default_rng(seed)
+    c = ma.shape[1]
+    stats = []
+    for start in range(0, reps, CHUNK):
+        size = min(CHUNK, reps - start)
+        pa = rng.integers(0, ma.shape[0], size=(size, ma.shape[0]))
+        pb = rng.integers(0, mb.shape[0], size=(size, mb.shape[0]))
+        counts = _draw_counts(rng, c, size)
+        share_a = np.take_along_axis((ma @ counts.T / c).T, pa, axis=1).mean(axis=1)
+        share_b = np.take_along_axis((mb @ counts.T / c).T, pb, axis=1).mean(axis=1)
+        stats.append(share_a - share_b)
+    return float(ma.mean() - mb.mean()), _percentiles(np.concatenate(stats))
+
+
+def _percentiles(stats: np.ndarray) -> list[float]:
+    lo, hi = np.quantile(stats, [0.025, 0.975])
+    return [float(lo), float(hi)]

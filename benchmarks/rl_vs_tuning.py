@@ -30,12 +30,17 @@ Methods (:data:`METHODS`):
   single design, until a design makes the whole row (193 episodes at most): the ceiling this benchmark can
   measure, not a bound (a method may make a row its budget did not find). It runs here.
 
-Each method is scored at ``mbd`` on every seed it was trained with. The table gives the hold-out whole-row
-share as an IQM over (seeds x 10 blocks of hold-out contexts) with a 95 % stratified-bootstrap interval
-(rliable, resampling seeds and blocks), the plain mean, mean traversals, the episodes and wall time of one
-seed's training, and the share of the gap from the single design to the oracle that it closes. The
+Each method is scored at ``mbd`` on every seed it was trained with, every seed on the same hold-out contexts: its
+outcomes are a matrix, seeds x contexts (1 = a whole row), in the JSON. The table gives the mean whole-row share
+with a 95 % interval from a bootstrap over seeds, then contexts (:func:`aero_env.intervals.seeds_then_contexts`),
+mean traversals, the episodes and wall time of one seed's training, and the share of the gap from the single
+design to the oracle that it closes; then each seed's share with the IQM of the seeds (rliable), and the
+differences between methods with their intervals, paired on the contexts
+(:func:`aero_env.intervals.difference_interval`; every pair in the JSON). The
 knife-edge columns give the share of hold-out outcomes (whole row or not) that flip when every action moves
-by noise of 1e-6, and when every context is built again by hand (a fresh draw of the cutting error).
+by one float32 ulp, each component up or down at random (the smallest change an action can make: the share that
+flips is the benchmark's resolution), and when every context is built again by hand (a fresh draw of the cutting
+error).
 """
 
 from __future__ import annotations
@@ -49,7 +54,7 @@ from pathlib import Path
 
 import numpy as np
 
-from aero_env.intervals import BOOTSTRAP_REPS, block_shares, iqm_interval
+from aero_env.intervals import BOOTSTRAP_REPS, difference_interval, iqm_interval, seeds_then_contexts
 
 from rl_holdout import CONFIG, SCENE, SINGLE, holdout_seeds, single_action, watch_seeds
 from rl_policies import (FINISH_EPISODES, MAP_METHODS, METHODS as TRAINED, RL_METHODS, check_pretrained, check_training_ranges,
@@ -58,8 +63,7 @@ from rl_policies import (FINISH_EPISODES, MAP_METHODS, METHODS as TRAINED, RL_ME
 METHODS = ("prototype", "single", *MAP_METHODS, "nearest-neighbour", "ppo", "sac", "ppo-reduced", "ppo-multifidelity",
            "oracle")
 POLICIES = "policies/contexts"
-STRATA = 10        # blocks of hold-out contexts: the "tasks" of rliable's stratified bootstrap
-NOISE = 1e-6       # the knife-edge test's action noise
+IQM_SEEDS = 4      # the fewest seeds an IQM of seeds is given for (it keeps the middle half of them)
 
 
 def single_record() -> dict:
@@ -74,7 +78,7 @@ def single_record() -> dict:
 def rl_player(folder, seed: int | None = None) -> dict:
     """The deterministic policy a run folder holds (``aero-env train``'s or a shipped one), with its record;
     ``seed``: the run's index among a method's seeds (default its ``--seed``)."""
-    from agents.rl import load_run
+    from agents.rl import load_run, policy_actions
 
     model, trained_on, run = load_run(folder)
     stages, start = [], run.get("init_from")
@@ -89,7 +93,7 @@ def rl_player(folder, seed: int | None = None) -> dict:
     at = stages[0]["fidelity"] if len(stages) == 1 else \
         ", then ".join(f"{st['fidelity']} {st['timesteps_done']}" for st in stages)
     return dict(seed=run.get("seed") if seed is None else seed,
-                act=lambda obs: model.predict(obs, deterministic=True)[0], episodes=episodes, wall_s=wall,
+                act=lambda obs: policy_actions(model, obs), episodes=episodes, wall_s=wall,
                 trained_at=at, folder=str(folder))
 
 
@@ -143,7 +147,7 @@ def score_rows(methods, seeds: dict, root: Path, runner, fast, draws, flips: boo
     space = runner.space
     obs = runner.observations(draws)
     rebuilt = fresh_builds(space, draws, seed=7919 + holdout_seed)
-    noise = np.random.default_rng(4242 + holdout_seed).standard_normal((len(draws), space.dim)) * NOISE
+    ulp_up = np.random.default_rng(4242 + holdout_seed).random((len(draws), space.dim)) < 0.5
     start = single_action(space)
     rows, chosen = [], {}
     for method in methods:
@@ -165,7 +169,7 @@ def score_rows(methods, seeds: dict, root: Path, runner, fast, draws, flips: boo
             players = [rl_player(policy_dir)]
         else:
             players = load_players(method, seeds[method], root, space)
-        whole, trav, flip_noise, flip_build, at_fast = [], [], [], [], []
+        whole, trav, flip_ulp, flip_build, at_fast = [], [], [], [], []
         parted_as: dict[str, int] = {}
         for p in players:
             actions = np.asarray(p["act"](obs), dtype=np.float64)
@@ -177,14 +181,16 @@ def score_rows(methods, seeds: dict, root: Path, runner, fast, draws, flips: boo
             for i in np.flatnonzero(at_fast[-1] & ~w):  # a whole row at reduced that mbd refuses: what mbd says
                 parted_as[outcomes[i]] = parted_as.get(outcomes[i], 0) + 1
             if flips:
-                flip_noise.append(float(np.mean(runner.whole_rows(draws, actions + noise) != w)))
+                flip_ulp.append(float(np.mean(runner.whole_rows(draws, one_ulp_nudge(actions, ulp_up)) != w)))
                 flip_build.append(float(np.mean(runner.whole_rows(rebuilt, actions) != w)))
             chosen.setdefault(method, []).append(actions)
         whole, at_fast = np.array(whole), np.array(at_fast)
-        iqm, ci = iqm_interval(block_shares(whole, min(STRATA, len(draws))))
+        mean, ci = seeds_then_contexts(whole)
+        ci_apart = seeds_then_contexts(whole, contexts="per seed")[1]  # for comparison (docs/agents.md)
+        per_seed = [float(w.mean()) for w in whole]
         walls = [p["wall_s"] for p in players if p["wall_s"] is not None]
-        row = dict(method=method, seeds=len(players), seed_list=[p["seed"] for p in players], iqm=iqm, ci=ci,
-                   mean=float(whole.mean()), per_seed=[float(w.mean()) for w in whole],
+        row = dict(method=method, seeds=len(players), seed_list=[p["seed"] for p in players], mean=mean, ci=ci,
+                   ci_contexts_per_seed=ci_apart, per_seed=per_seed, outcomes=whole.astype(int).tolist(),
                    mean_traversals=float(np.mean(trav)), episodes=int(np.mean([p["episodes"] for p in players])),
                    wall_s=float(np.mean(walls)) if walls else None, wall_per_seed=walls,
                    trained_at=players[0]["trained_at"],
@@ -193,22 +199,41 @@ def score_rows(methods, seeds: dict, root: Path, runner, fast, draws, flips: boo
                    reduced_false_rows=float(np.mean(at_fast & ~whole)), parted_as=dict(sorted(parted_as.items())),
                    design_median={k: float(np.median(v)) for k, v in runner.space.values_columns(
                        np.clip(np.concatenate(chosen[method]), -1.0, 1.0)).items()})
+        if len(players) >= IQM_SEEDS:
+            row["iqm_seeds"], row["iqm_seeds_ci"] = iqm_interval(np.array(per_seed)[:, None])
         if flips:
-            row.update(flips_noise=float(np.mean(flip_noise)), flips_build=float(np.mean(flip_build)))
+            row.update(flips_ulp=float(np.mean(flip_ulp)), flips_build=float(np.mean(flip_build)))
         if "solved" in players[0]:
             row["solved"] = players[0]["solved"]
         rows.append(row)
     by = {r["method"]: r for r in rows}
-    if {"single", "oracle"} <= set(by) and by["oracle"]["iqm"] > by["single"]["iqm"]:
-        gap = by["oracle"]["iqm"] - by["single"]["iqm"]
+    if {"single", "oracle"} <= set(by) and by["oracle"]["mean"] > by["single"]["mean"]:
+        gap = by["oracle"]["mean"] - by["single"]["mean"]
         for r in rows:
-            r["gap_closed"] = (r["iqm"] - by["single"]["iqm"]) / gap
+            r["gap_closed"] = (r["mean"] - by["single"]["mean"]) / gap
     return rows, chosen
 
 
+def one_ulp_nudge(actions: np.ndarray, up: np.ndarray) -> np.ndarray:
+    """Every component of the actions moved by one float32 ulp (the action space's precision), up where ``up``."""
+    a = actions.astype(np.float32)
+    return np.nextafter(a, np.where(up, np.float32(np.inf), np.float32(-np.inf))).astype(np.float64)
+
+
+def differences(rows: list[dict]) -> list[dict]:
+    """Every pair of methods (a listed before b): the difference of their means, a - b, with its 95 % interval
+    paired on the hold-out contexts; ``apart``: the interval excludes 0."""
+    out = []
+    for i, a in enumerate(rows):
+        for b in rows[i + 1:]:
+            d, ci = difference_interval(a["outcomes"], b["outcomes"])
+            out.append(dict(a=a["method"], b=b["method"], diff=d, ci=ci, apart=bool(ci[0] > 0 or ci[1] < 0)))
+    return out
+
+
 def recipe(rows: list[dict]) -> dict | None:
-    """The multi-fidelity recipe against PPO trained at mbd: its IQM, and its wall time (both stages) as a share
-    of PPO's (the goal: PPO's IQM in at most a third of its time). The wall times are medians over seeds: a seed
+    """The multi-fidelity recipe against PPO trained at mbd: its mean, the difference with its paired interval, and
+    its wall time (both stages) as a share of PPO's (the goal: PPO's share in at most a third of its time). The wall times are medians over seeds: a seed
     trained beside another job on the 2 cores would pull a mean."""
     by = {r["method"]: r for r in rows}
     if not {"ppo", "ppo-multifidelity"} <= set(by) or not (by["ppo"]["wall_per_seed"] and
@@ -216,9 +241,9 @@ def recipe(rows: list[dict]) -> dict | None:
         return None
     mf, ppo = by["ppo-multifidelity"], by["ppo"]
     ours, theirs = float(np.median(mf["wall_per_seed"])), float(np.median(ppo["wall_per_seed"]))
-    return dict(iqm=mf["iqm"], ci=mf["ci"], ppo_iqm=ppo["iqm"], ppo_ci=ppo["ci"], reached=mf["iqm"] >= ppo["iqm"],
-                intervals_overlap=mf["ci"][0] <= ppo["ci"][1] and ppo["ci"][0] <= mf["ci"][1],
-                wall_s=ours, ppo_wall_s=theirs, wall_ratio=ours / theirs)
+    diff, diff_ci = difference_interval(mf["outcomes"], ppo["outcomes"])
+    return dict(mean=mf["mean"], ci=mf["ci"], ppo_mean=ppo["mean"], ppo_ci=ppo["ci"], reached=mf["mean"] >= ppo["mean"],
+                diff=diff, diff_ci=diff_ci, wall_s=ours, ppo_wall_s=theirs, wall_ratio=ours / theirs)
 
 
 def design_follows(cfg, obs: np.ndarray, actions: list[np.ndarray]) -> list[dict]:
@@ -311,23 +336,37 @@ def retrain(methods, seeds, root: Path, args) -> None:
                 fit_baseline(method, seed, dest, args.map_episodes, args.nn_contexts)
 
 
+def pct_ci(value: float, ci: list[float]) -> str:
+    return f"{100 * value:.1f} % [{100 * ci[0]:.1f}, {100 * ci[1]:.1f}]"
+
+
 def print_table(rep: dict) -> None:
     seeds = holdout_seeds(rep["holdout_seed"], rep["holdout"])
     print(f"{SCENE} ({CONFIG}), whole row = {rep['frames'] - 1} traversals; {rep['holdout']} hold-out contexts "
           f"(seeds {seeds[0]}..{seeds[-1]}), every method scored at mbd")
-    print("| method | seeds | trained at | episodes / seed | wall / seed | whole row: IQM [95 % CI] | mean | "
-          "mean traversals | flips: 1e-6 / rebuilt | gap closed |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| method | seeds | trained at | episodes / seed | wall / seed | whole row: mean [95 % CI] | "
+          "mean traversals | flips: 1 ulp / rebuilt | gap closed |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for r in rep["rows"]:
         wall = "-" if r["wall_s"] is None else f"{r['wall_s']:.0f} s"
-        flips = f"{100 * r['flips_noise']:.1f} / {100 * r['flips_build']:.1f} %" if "flips_noise" in r else "-"
+        flips = f"{100 * r['flips_ulp']:.1f} / {100 * r['flips_build']:.1f} %" if "flips_ulp" in r else "-"
         gap = f"{100 * r['gap_closed']:.0f} %" if "gap_closed" in r else "-"
         print(f"| {r['method']} | {r['seeds']} | {r['trained_at']} | {r['episodes']} | {wall} | "
-              f"{100 * r['iqm']:.1f} % [{100 * r['ci'][0]:.1f}, {100 * r['ci'][1]:.1f}] | {100 * r['mean']:.1f} % | "
-              f"{r['mean_traversals']:.2f} | {flips} | {gap} |")
+              f"{pct_ci(r['mean'], r['ci'])} | {r['mean_traversals']:.2f} | {flips} | {gap} |")
     for r in rep["rows"]:
         if r["seeds"] > 1:
-            print(f"{r['method']} per seed: " + ", ".join(f"{100 * s:.1f} %" for s in r["per_seed"]))
+            iqm = f"; IQM of the seeds {pct_ci(r['iqm_seeds'], r['iqm_seeds_ci'])}" if "iqm_seeds" in r else ""
+            print(f"{r['method']} per seed: " + ", ".join(f"{100 * s:.1f} %" for s in r["per_seed"]) + iqm)
+    shown = [d for d in rep["differences"] if d["b"] in ("single", "ppo") or d["a"] == "ppo"]
+    if shown:
+        print("differences in whole-row share, paired on the hold-out contexts (every pair in the JSON):")
+        print("| a - b | difference [95 % CI] | apart |")
+        print("|---|---|---|")
+        for d in shown:
+            a, b, sign = (d["a"], d["b"], 1) if d["b"] in ("single", "ppo") else (d["b"], d["a"], -1)
+            lo, hi = sorted((sign * d["ci"][0], sign * d["ci"][1]))
+            print(f"| {a} - {b} | {100 * sign * d['diff']:+.1f} points [{100 * lo:+.1f}, {100 * hi:+.1f}] | "
+                  f"{'yes' if d['apart'] else 'no'} |")
     print("each method's own designs replayed at reduced (the fast rung):")
     print("| method | whole row at reduced | at mbd | outcomes that part | rows reduced grants, mbd refuses | "
           "mbd's outcome there |")
@@ -349,9 +388,10 @@ def print_table(rep: dict) -> None:
             print(f"| {k} | " + " | ".join(f"{c:.4g} {unit}".strip() for c in cells) + " |")
     if rep.get("recipe"):
         r = rep["recipe"]
-        print(f"the multi-fidelity recipe (ppo-multifidelity): IQM {100 * r['iqm']:.1f} % against ppo's "
-              f"{100 * r['ppo_iqm']:.1f} % ({'reached' if r['reached'] else 'not reached'}; the intervals "
-              f"{'overlap' if r['intervals_overlap'] else 'are apart'}), in {r['wall_s']:.0f} s a "
+        print(f"the multi-fidelity recipe (ppo-multifidelity): {100 * r['mean']:.1f} % against ppo's "
+              f"{100 * r['ppo_mean']:.1f} % ({'reached' if r['reached'] else 'not reached'}; the difference "
+              f"{100 * r['diff']:+.1f} points [{100 * r['diff_ci'][0]:+.1f}, {100 * r['diff_ci'][1]:+.1f}]), "
+              f"in {r['wall_s']:.0f} s a "
               f"seed against ppo's {r['ppo_wall_s']:.0f} s (medians over seeds): {r['wall_ratio']:.2f} of its wall "
               f"time (the goal: at most 1/3)")
     print(f"training every policy and map in {rep['policies']} again (python benchmarks/rl_policies.py) took "
@@ -454,8 +494,8 @@ def main() -> None:
         plot_curves(found, single_watch, args.plot)
     rep = dict(scene=SCENE, config=CONFIG, frames=cfg.scene.frames, holdout=args.holdout,
                holdout_seed=args.holdout_seed, retrain_s=retrain_seconds(root), policies=str(root), rows=rows,
-               curves=found, recipe=recipe(rows),
-               follows_method=follows_method, design_follows=follows, noise=NOISE, strata=STRATA,
+               curves=found, recipe=recipe(rows), differences=differences(rows),
+               follows_method=follows_method, design_follows=follows, nudge="1 float32 ulp",
                bootstrap_reps=BOOTSTRAP_REPS)
     if args.json:
         print(json.dumps(rep, indent=1))

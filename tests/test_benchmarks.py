@@ -259,3 +259,20 @@ def test_step_agreement_near_a_design_runs_the_designs_bench_accuracy_draws_ther
     assert len(set(counts)) == 3, counts  # a sample the comparison can fail on: no two designs alike
     assert r["reference_counts"] == counts
     assert "only with --near" in _bench("step_agreement.py", "--spread", "0.2", expect=2)
+
+
+def test_the_knife_edge_nudge_moves_every_action_component_by_one_float32_ulp():
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    try:
+        from rl_vs_tuning import one_ulp_nudge
+    finally:
+        sys.path.remove(str(ROOT / "benchmarks"))
+    actions = np.array([[0.5, -0.25, 0.0, 1.0 / 3.0], [-1.0, 0.7, 1e-9, -0.1]])
+    up = np.array([[True, False, True, False], [True, True, False, True]])
+    nudged = one_ulp_nudge(actions, up)
+    a32 = actions.astype(np.float32)
+    # one step of float32, counted on the float32 grid the action space reads: up where asked, down elsewhere
+    for x, y, u in zip(a32.ravel(), nudged.astype(np.float32).ravel(), up.ravel()):
+        assert y == np.nextafter(x, np.float32(np.inf if u else -np.inf)) and y != x
+    # worked by hand: float32's step is 2^-24 in [0.5, 1) and 2^-25 in [0.25, 0.5)
+    assert nudged[0, 0] == 0.5 + 2.0 ** -24 and nudged[0, 1] == -0.25 - 2.0 ** -25
