@@ -1,7 +1,7 @@
 """Context -> design: RL, black-box maps, nearest neighbour and the per-context oracle against the best
 single design, on the maker's contexts, over training seeds, with intervals.
 
-    python benchmarks/rl_vs_tuning.py [--holdout-seed S] [--holdout 200] [--methods M,...] [--seeds 0-4]
+    python benchmarks/rl_vs_tuning.py [--holdout-seed S] [--holdout 200] [--methods M,...] [--seeds 0-9]
                                       [--policies policies/contexts] [--policy DIR] [--no-flips]
                                       [--retrain [--timesteps 40960] [--finish-episodes 3072] [--map-episodes 40960]
                                        [--nn-contexts 128]]
@@ -414,8 +414,8 @@ def main() -> None:
     ap.add_argument("--holdout", type=int, default=200, help="hold-out contexts")
     ap.add_argument("--holdout-seed", type=int, default=0, help="which hold-out contexts: seeds 10^6·(S+1) onward")
     ap.add_argument("--methods", default=",".join(METHODS), help=f"comma-separated, of {', '.join(METHODS)}")
-    ap.add_argument("--seeds", help="the training seeds scored (0-4 or 0,2,5); default every seed 0-4 that "
-                                    "--policies holds (--retrain: 0-4)")
+    ap.add_argument("--seeds", help="the training seeds scored (0-9 or 0,2,5); default every seed 0-9 that "
+                                    "--policies holds (--retrain: 0-9)")
     ap.add_argument("--policies", default=POLICIES, help="the shipped policies and maps (DIR/METHOD/seedS)")
     ap.add_argument("--policy", metavar="DIR", help="also score the policy aero-env train wrote in DIR")
     ap.add_argument("--skip-missing", action="store_true",
@@ -432,9 +432,9 @@ def main() -> None:
     ap.add_argument("--plot", metavar="FILE.png", help="draw the RL learning curves (watch contexts)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
-    shipped = args.seeds is None and not args.retrain  # the default: whichever of seeds 0-4 are shipped
+    shipped = args.seeds is None and not args.retrain  # the default: whichever of seeds 0-9 are shipped
     if args.seeds is None:
-        args.seeds = "0-4"
+        args.seeds = "0-9"
     methods, seeds = checked_args("rl_vs_tuning", args, METHODS, (
         ("--timesteps", args.timesteps, 1), ("--finish-episodes", args.finish_episodes, 1),
         ("--map-episodes", args.map_episodes, 1),

@@ -265,7 +265,7 @@ def test_rl_vs_tuning_rescores_the_shipped_policies_on_the_holdout_contexts_it_n
     bad = subprocess.run([sys.executable, "benchmarks/rl_vs_tuning.py", "--policies", "nowhere", "--methods", "ppo"],
                          capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert bad.returncode != 0 and bad.stderr.strip() == "rl_vs_tuning: --policies nowhere: no seed of ppo among " \
-        "--seeds 0-4"
+        "--seeds 0-9"
     bad = subprocess.run([sys.executable, "benchmarks/rl_vs_tuning.py", "--policies", "nowhere", "--methods", "ppo",
                           "--seeds", "1"], capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert bad.returncode != 0 and bad.stderr.count("\n") == 1 and "no nowhere/ppo/seed1;" in bad.stderr
