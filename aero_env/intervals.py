@@ -92,6 +92,24 @@ def _draw_counts(rng: np.random.Generator, n: int, size: int) -> np.ndarray:
 CHUNK = 2_000  # resamples drawn at once (bounds the memory of a per-seed draw of contexts)
 
 
+def _chunk_sizes(reps: int):
+    """``reps`` resamples as chunks of at most :data:`CHUNK`."""
+    for start in range(0, reps, CHUNK):
+        yield min(CHUNK, reps - start)
+
+
+def _drawn_seeds(rng: np.random.Generator, s: int, size: int) -> np.ndarray:
+    """For each of ``size`` resamples, the ``s`` seeds drawn with replacement, slot by slot (size x S)."""
+    return rng.integers(0, s, size=(size, s))
+
+
+def _resampled_share(m: np.ndarray, picks: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """Each resample's share: the mean over its drawn seeds (``picks``, size x S) of their shares on its drawn
+    contexts (``counts``, size x C, one draw played by every seed)."""
+    per_seed = m @ counts.T / m.shape[1]  # (S, size): each seed's share on each resample's contexts
+    return np.take_along_axis(per_seed.T, picks, axis=1).mean(axis=1)
+
+
 def seeds_then_contexts(outcomes, seed: int = 0, reps: int = BOOTSTRAP_REPS,
                         contexts: str = "shared") -> tuple[float, list[float]]:
     """The mean of ``outcomes`` (training seeds x hold-out contexts; 1 = a whole row) and its 95 % percentile
@@ -104,13 +122,10 @@ def seeds_then_contexts(outcomes, seed: int = 0, reps: int = BOOTSTRAP_REPS,
     rng = np.random.default_rng(seed)
     s, c = m.shape
     stats = []
-    for start in range(0, reps, CHUNK):
-        size = min(CHUNK, reps - start)
-        picks = rng.integers(0, s, size=(size, s))  # the seeds drawn, slot by slot
+    for size in _chunk_sizes(reps):
+        picks = _drawn_seeds(rng, s, size)
         if contexts == "shared":
-            counts = _draw_counts(rng, c, size)  # (size, C)
-            per_seed = m @ counts.T / c  # (S, size): each seed's share on the drawn contexts
-            stats.append(np.take_along_axis(per_seed.T, picks, axis=1).mean(axis=1))
+            stats.append(_resampled_share(m, picks, _draw_counts(rng, c, size)))
         else:
             counts = _draw_counts(rng, c, size * s).reshape(size, s, c)  # a draw of contexts per slot
             stats.append(np.einsum("rkc,rkc->rk", m[picks], counts).mean(axis=1) / c)
@@ -126,16 +141,11 @@ def difference_interval(a, b, seed: int = 0, reps: int = BOOTSTRAP_REPS) -> tupl
         raise ValueError(f"difference_interval: {ma.shape[1]} and {mb.shape[1]} contexts: both methods must have "
                          f"played the same hold-out contexts")
     rng = np.random.default_rng(seed)
-    c = ma.shape[1]
     stats = []
-    for start in range(0, reps, CHUNK):
-        size = min(CHUNK, reps - start)
-        pa = rng.integers(0, ma.shape[0], size=(size, ma.shape[0]))
-        pb = rng.integers(0, mb.shape[0], size=(size, mb.shape[0]))
-        counts = _draw_counts(rng, c, size)
-        share_a = np.take_along_axis((ma @ counts.T / c).T, pa, axis=1).mean(axis=1)
-        share_b = np.take_along_axis((mb @ counts.T / c).T, pb, axis=1).mean(axis=1)
-        stats.append(share_a - share_b)
+    for size in _chunk_sizes(reps):
+        pa, pb = _drawn_seeds(rng, ma.shape[0], size), _drawn_seeds(rng, mb.shape[0], size)
+        counts = _draw_counts(rng, ma.shape[1], size)  # one draw of contexts for both methods
+        stats.append(_resampled_share(ma, pa, counts) - _resampled_share(mb, pb, counts))
     return float(ma.mean() - mb.mean()), _percentiles(np.concatenate(stats))
 
 

@@ -231,7 +231,17 @@ def differences(rows: list[dict]) -> list[dict]:
     return out
 
 
-def recipe(rows: list[dict]) -> dict | None:
+def difference(diffs: list[dict], a: str, b: str) -> tuple[float, list[float]]:
+    """a - b and its interval, read from :func:`differences`' pairs (stored in either order)."""
+    for d in diffs:
+        if (d["a"], d["b"]) == (a, b):
+            return d["diff"], d["ci"]
+        if (d["a"], d["b"]) == (b, a):
+            return -d["diff"], [-d["ci"][1], -d["ci"][0]]
+    raise KeyError(f"no pair {a}, {b}")
+
+
+def recipe(rows: list[dict], diffs: list[dict]) -> dict | None:
     """The multi-fidelity recipe against PPO trained at mbd: its mean, the difference with its paired interval, and
     its wall time (both stages) as a share of PPO's (the goal: PPO's share in at most a third of its time). The wall times are medians over seeds: a seed
     trained beside another job on the 2 cores would pull a mean."""
@@ -241,7 +251,7 @@ def recipe(rows: list[dict]) -> dict | None:
         return None
     mf, ppo = by["ppo-multifidelity"], by["ppo"]
     ours, theirs = float(np.median(mf["wall_per_seed"])), float(np.median(ppo["wall_per_seed"]))
-    diff, diff_ci = difference_interval(mf["outcomes"], ppo["outcomes"])
+    diff, diff_ci = difference(diffs, "ppo-multifidelity", "ppo")
     return dict(mean=mf["mean"], ci=mf["ci"], ppo_mean=ppo["mean"], ppo_ci=ppo["ci"], reached=mf["mean"] >= ppo["mean"],
                 diff=diff, diff_ci=diff_ci, wall_s=ours, ppo_wall_s=theirs, wall_ratio=ours / theirs)
 
@@ -363,9 +373,9 @@ def print_table(rep: dict) -> None:
         print("| a - b | difference [95 % CI] | apart |")
         print("|---|---|---|")
         for d in shown:
-            a, b, sign = (d["a"], d["b"], 1) if d["b"] in ("single", "ppo") else (d["b"], d["a"], -1)
-            lo, hi = sorted((sign * d["ci"][0], sign * d["ci"][1]))
-            print(f"| {a} - {b} | {100 * sign * d['diff']:+.1f} points [{100 * lo:+.1f}, {100 * hi:+.1f}] | "
+            a, b = (d["a"], d["b"]) if d["b"] in ("single", "ppo") else (d["b"], d["a"])
+            diff, (lo, hi) = difference(rep["differences"], a, b)
+            print(f"| {a} - {b} | {100 * diff:+.1f} points [{100 * lo:+.1f}, {100 * hi:+.1f}] | "
                   f"{'yes' if d['apart'] else 'no'} |")
     print("each method's own designs replayed at reduced (the fast rung):")
     print("| method | whole row at reduced | at mbd | outcomes that part | rows reduced grants, mbd refuses | "
@@ -492,9 +502,10 @@ def main() -> None:
     follows = design_follows(cfg, runner.observations(draws), chosen[follows_method]) if follows_method else []
     if args.plot and found:
         plot_curves(found, single_watch, args.plot)
+    diffs = differences(rows)
     rep = dict(scene=SCENE, config=CONFIG, frames=cfg.scene.frames, holdout=args.holdout,
                holdout_seed=args.holdout_seed, retrain_s=retrain_seconds(root), policies=str(root), rows=rows,
-               curves=found, recipe=recipe(rows), differences=differences(rows),
+               curves=found, recipe=recipe(rows, diffs), differences=diffs,
                follows_method=follows_method, design_follows=follows, nudge="1 float32 ulp",
                bootstrap_reps=BOOTSTRAP_REPS)
     if args.json:
