@@ -478,16 +478,23 @@ def test_the_counterbalance_is_coins_and_clay_on_a_coins_circle(kit):
     drawn(sum(ln[0] + ln[2] for ln in cross) / 4, cx, 2), drawn(sum(ln[1] + ln[3] for ln in cross) / 4, cy, 2)
 
 
-def test_the_torso_its_axle_hole_and_its_coins(kit):
-    cfg, _, svg = kit
-    d = cfg.design
-    want = expected_pieces(cfg)["part-torso"]
-    text, shapes = svg["part-torso"]
+def _plate_with_an_end_hole(cfg, svg, piece: str):
+    """A robot plate (the torso, the arm): its outline as expected_pieces gives it, and its one axle hole END from
+    the left edge, on the plate's centre line. Returns what the piece's own checks read next."""
+    want = expected_pieces(cfg)[piece]
+    text, shapes = svg[piece]
     length, width = want["outline"]
     (x, y, w, h), = of(shapes, "rect", "cut")
     drawn(w, length), drawn(h, width)
     (hx, hy, hr), = of(shapes, "circle", "cut")
     drawn(hx - x, END, 2), drawn(hy - y, width / 2, 2), drawn(hr, HOLE_R)
+    return want, text, shapes, (length, width), (x, w), (hx, hy)
+
+
+def test_the_torso_its_axle_hole_and_its_coins(kit):
+    cfg, _, svg = kit
+    d = cfg.design
+    want, text, shapes, (length, width), (x, w), (hx, hy) = _plate_with_an_end_hole(cfg, svg, "part-torso")
     drawn(x + w - hx, d.torso_length * 1e3, 2)
     (cx, cy, cr), = of(shapes, "circle", "mark")
     drawn(cx - hx, d.coin_offset * 1e3, 2), drawn(cr, d.coin_radius * 1e3), drawn(cy, hy, 2)
@@ -505,13 +512,7 @@ def test_the_torso_its_axle_hole_and_its_coins(kit):
 def test_the_arm_its_axle_hole_and_hook_fold(kit):
     cfg, _, svg = kit
     d = cfg.design
-    want = expected_pieces(cfg)["part-arm"]
-    text, shapes = svg["part-arm"]
-    length, width = want["outline"]
-    (x, y, w, h), = of(shapes, "rect", "cut")
-    drawn(w, length), drawn(h, width)
-    (hx, hy, hr), = of(shapes, "circle", "cut")
-    drawn(hx - x, END, 2), drawn(hy - y, width / 2, 2), drawn(hr, HOLE_R)
+    want, text, shapes, (length, width), (x, w), (hx, hy) = _plate_with_an_end_hole(cfg, svg, "part-arm")
     (fx1, fy1, fx2, fy2), = of(shapes, "line", "fold")
     drawn(fx1 - hx, d.arm_length * 1e3, 2), drawn(fx2, fx1, 2), drawn(abs(fy2 - fy1), width, 2)
     drawn(x + w - fx1, LIP, 2)
