@@ -91,16 +91,21 @@ def refresh_copies(cfg: dict) -> None:
 def forget_stale_state(cfg: dict) -> None:
     """What mutmut keeps in mutants/ and would wrongly reuse after the configuration changed: a module newly in
     ``only_mutate`` whose plain copy is there (mutmut calls it unmodified and makes no mutants of it), and the map
-    from tests to the functions they reach when the test selection changed (a mutant no listed test reached before
-    would count as untested)."""
+    from tests to the functions they reach when the test selection changed or a mutated module is newer than the
+    map (a mutant no listed test reached before would count as untested)."""
     for path in cfg["only_mutate"]:
         copy = ROOT / "mutants" / path
         if copy.exists() and not copy.with_name(copy.name + ".meta").exists():
             copy.unlink()
     seen = ROOT / "mutants" / "aero-env-mutmut-config.json"
     now = json.dumps(cfg, sort_keys=True)
+    stats = ROOT / "mutants" / "mutmut-stats.json"
     if seen.exists() and seen.read_text() != now:
-        (ROOT / "mutants" / "mutmut-stats.json").unlink(missing_ok=True)
+        stats.unlink(missing_ok=True)
+    # a function added to a mutated module since the map was made is in no test's list: its every mutant would
+    # count as untested (mutmut keeps the map while the tests' files are unchanged)
+    if stats.exists() and any((ROOT / p).stat().st_mtime > stats.stat().st_mtime for p in cfg["only_mutate"]):
+        stats.unlink()
     seen.parent.mkdir(exist_ok=True)
     seen.write_text(now)
 
