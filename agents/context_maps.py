@@ -66,15 +66,17 @@ class ParamMap:
 
 
 def fit_map(runner: EpisodeRunner, kind: str, seed: int, episodes: int, start: np.ndarray | None = None,
-            contexts: int = 64, seed_base: int = 10_000, hidden: int = 8,
-            sigma: float = MAP_STEP) -> tuple[ParamMap, list[dict]]:
+            contexts: int = 64, seed_base: int = 10_000, hidden: int = 8, sigma: float = MAP_STEP,
+            first_context: int | None = None, on_generation=None) -> tuple[ParamMap, list[dict]]:
     """Tune a map on ``runner``'s scene by CMA-ES within ``episodes`` episodes; returns it and its history
     (per generation: episodes so far, the population's mean and best reward). ``start``: the design the search
     starts from, for every context (a tuned single design); default the box's centre.
 
-    Generation g plays the training contexts of episode seeds ``map_block_start(seed) + g·contexts`` onward, the
-    same ones for every candidate (:func:`map_seed_span` gives the whole range). A budget too small for one
-    generation is refused."""
+    Generation g plays the training contexts of episode seeds ``map_block_start(seed) + g·contexts`` onward (or
+    ``first_context + g·contexts``), the same ones for every candidate (:func:`map_seed_span` gives the whole range).
+    A budget too small for one generation is refused. ``on_generation(episodes, params)``, if given, sees the map
+    after each generation: after the last generation within a smaller budget it is the map a fit with that budget
+    returns (same seed, same contexts), so one fit gives every budget's map."""
     from cmaes import CMA
 
     space = runner.space
@@ -89,7 +91,7 @@ def fit_map(runner: EpisodeRunner, kind: str, seed: int, episodes: int, start: n
                          f"{contexts} contexts = {lam * contexts} episodes")
     history, used, g = [], 0, 0
     while used + lam * contexts <= episodes:
-        first = map_block_start(seed, seed_base) + g * contexts
+        first = (map_block_start(seed, seed_base) if first_context is None else first_context) + g * contexts
         draws = draws_for_seeds(space, range(first, first + contexts))
         obs = runner.observations(draws)
         cands = [opt.ask() for _ in range(lam)]
@@ -100,6 +102,8 @@ def fit_map(runner: EpisodeRunner, kind: str, seed: int, episodes: int, start: n
         used += lam * contexts
         g += 1
         history.append(dict(episodes=used, mean_reward=float(rewards.mean()), best_reward=float(rewards.max())))
+        if on_generation is not None:
+            on_generation(used, np.asarray(opt.mean, dtype=np.float64))
     m.params = np.asarray(opt.mean, dtype=np.float64)
     return m, history
 
@@ -149,16 +153,17 @@ def search_contexts(runner: EpisodeRunner, draws: list, start: np.ndarray, seed:
     """Search each episode (context + build) of ``draws`` for a design that completes the whole row: the start
     design first, then CMA-ES about it (step :data:`SEARCH_STEP`, ``popsize`` designs a generation, every open
     context's generation in one batch), until a design makes the row or ``max_evals`` episodes are spent. A
-    context keeps the first design that made the row, else the best seen (most traversals, first)."""
+    context keeps the first design that made the row, else the best seen (most traversals, first). ``start``: one
+    design for every context, or one row per context."""
     from cmaes import CMA
 
     n = len(draws)
     start = np.asarray(start, dtype=np.float64)
-    actions = np.tile(start, (n, 1))
+    actions = start.copy() if start.ndim == 2 else np.tile(start, (n, 1))
     best = runner.traversals(draws, actions)
     solved = best >= runner.full_row
     evals = np.ones(n, dtype=np.int64)
-    opts = {i: CMA(mean=start.copy(), sigma=SEARCH_STEP, bounds=np.tile([-1.0, 1.0], (len(start), 1)),
+    opts = {i: CMA(mean=actions[i].copy(), sigma=SEARCH_STEP, bounds=np.tile([-1.0, 1.0], (actions.shape[1], 1)),
                    seed=seed * 100_003 + i, population_size=popsize) for i in np.flatnonzero(~solved)}
     while opts:
         open_ = [i for i in opts if evals[i] + popsize <= max_evals]

@@ -1,11 +1,13 @@
 """Train the policies and maps that ``benchmarks/rl_vs_tuning.py`` scores, and ship them.
 
-    python benchmarks/rl_policies.py [--methods ppo,ppo-reduced,sac,ppo-multifidelity,linear-map,...]
-                                     [--seeds 0-4] [--out policies/contexts] [--timesteps 40960] [--finish-episodes 3072]
+    python benchmarks/rl_policies.py [--task contexts|hard]
+                                     [--methods ppo,ppo-reduced,sac,ppo-multifidelity,linear-map,...] [--seeds 0-4] [--out policies/contexts] [--timesteps 40960] [--finish-episodes 3072]
                                      [--map-episodes 40960] [--nn-contexts 128] [--watch 200]
 
-Every method learns a map context -> design on ``configs/contexts.yaml`` from training contexts only
-(episode seeds below 10^5), once per seed, and writes ``OUT/METHOD/seedS/``:
+Every method learns a map context -> design on ``configs/contexts.yaml`` (``--task hard``:
+``configs/contexts_hard.yaml``, shipped in ``policies/contexts-hard``, every search from the box's centre, there
+being no tuned single design) from training contexts only (episode seeds below 10^5), once per seed, and writes
+``OUT/METHOD/seedS/``:
 
 * **RL** (``ppo``, ``sac``, ``ppo-reduced``, ``ppo-multifidelity``): ``aero-env train`` through the native vector env (32 designs a
   step over a pool of one process per core) with :data:`RL_METHODS`' settings; ``run.json`` records the
@@ -40,7 +42,9 @@ from pathlib import Path
 
 import numpy as np
 
-from rl_holdout import CONFIG, SINGLE, single_action, watch_seeds
+from rl_holdout import TASKS, Task, single_action, watch_seeds
+
+CONTEXTS = TASKS["contexts"]
 
 N_ENVS = 32
 TIMESTEPS = 40_960  # 40 PPO updates of 1,024 episodes
@@ -81,18 +85,19 @@ def pretrained(method: str, seed: int, root: Path) -> Path | None:
     return Path(root, spec["init_from"], f"seed{seed}") if "init_from" in spec else None
 
 
-def train_command(method: str, seed: int, timesteps: int, finish: int, out: str, root: Path) -> str:
+def train_command(method: str, seed: int, timesteps: int, finish: int, out: str, root: Path,
+                  task: Task = CONTEXTS) -> str:
     spec = RL_METHODS[method]
     sets = "".join(f" --set {k}={v}" for k, v in spec["overrides"].items())
     hps = "".join(f" --hp {k}={v}" for k, v in spec["hp"].items())
     start = pretrained(method, seed, root)
     init = f" --init-from {start}" if start else ""
-    return (f"aero-env train {CONFIG}{sets} --algo {spec['algo']} --timesteps {method_timesteps(method, timesteps, finish)} "
+    return (f"aero-env train {task.config}{sets} --algo {spec['algo']} --timesteps {method_timesteps(method, timesteps, finish)} "
             f"--n-envs {N_ENVS} --vector --eval-every 0{hps} --seed {training_seed(seed)}{init} --out {out}")
 
 
 def train_rl(method: str, seed: int, timesteps: int, dest: Path, watch: int, curve_every: int,
-             finish: int = FINISH_EPISODES) -> dict:
+             finish: int = FINISH_EPISODES, task: Task = CONTEXTS) -> dict:
     """Train one policy and write its shipped files to ``dest`` (``OUT/METHOD/seedS``); returns its run.json."""
     from stable_baselines3.common.callbacks import BaseCallback
 
@@ -103,8 +108,8 @@ def train_rl(method: str, seed: int, timesteps: int, dest: Path, watch: int, cur
     spec = RL_METHODS[method]
     if "init_from" in spec and curve_every:  # a short finish: a point after each PPO update
         curve_every = min(curve_every, N_ENVS * PPO_HP["n_steps"])
-    cfg = load_config(CONFIG, spec["overrides"])
-    scorer = EpisodeRunner(load_config(CONFIG))  # watched where the policy is used: mbd
+    cfg = load_config(task.config, spec["overrides"])
+    scorer = EpisodeRunner(load_config(task.config))  # watched where the policy is used: mbd
     draws = draws_for_seeds(scorer.space, watch_seeds(watch))
     obs = scorer.observations(draws)
     curve: list[dict] = []
@@ -150,7 +155,7 @@ def train_rl(method: str, seed: int, timesteps: int, dest: Path, watch: int, cur
             run["wall_time_with_curve"] = run["wall_time"]
             run["wall_time"] = run["wall_time"] - watched[0]
             run["episodes_per_second"] = run["timesteps_done"] / run["wall_time"]
-            run["command"] = train_command(method, seed, timesteps, finish, str(dest), root)
+            run["command"] = train_command(method, seed, timesteps, finish, str(dest), root, task)
             run.update(method=method, run=seed)
             Path(tmp, "run.json").write_text(json.dumps(run, indent=1) + "\n")
             Path(tmp, "curve.json").write_text(json.dumps(dict(watch_seeds=[watch_seeds(watch)[0], watch],
@@ -161,33 +166,42 @@ def train_rl(method: str, seed: int, timesteps: int, dest: Path, watch: int, cur
     return run
 
 
-def fit_baseline(method: str, seed: int, dest: Path, map_episodes: int, nn_contexts: int) -> dict:
-    """Fit a black-box map or a nearest-neighbour table and write ``dest/policy.json``; returns its record."""
+def fit_baseline(method: str, seed: int, dest: Path, map_episodes: int, nn_contexts: int,
+                 task: Task = CONTEXTS) -> dict:
+    """Fit a black-box map or a nearest-neighbour table on ``task`` and write ``dest/policy.json``; returns its
+    record. Both start from the task's best single design, or from the box's centre where it has none."""
     from aero_env.config import load_config
     from agents.context_maps import NearestNeighbour, fit_map, search_contexts
     from agents.episode_runner import EpisodeRunner, draws_for_seeds
 
     t0 = time.perf_counter()
     if method in MAP_METHODS:
-        runner = EpisodeRunner(load_config(CONFIG, {"sim.fidelity": "reduced"}))
-        m, history = fit_map(runner, MAP_METHODS[method], seed, map_episodes, start=single_action(runner.space))
+        runner = EpisodeRunner(load_config(task.config, {"sim.fidelity": "reduced"}))
+        m, history = fit_map(runner, MAP_METHODS[method], seed, map_episodes,
+                             start=single_action(runner.space, task))
         record = dict(method=method, fidelity="reduced", map=m.to_json_dict(), history=history)
     else:
-        runner = EpisodeRunner(load_config(CONFIG))
+        runner = EpisodeRunner(load_config(task.config))
         try:
             start = NN_BASE + 1000 * seed
             found = search_contexts(runner, draws_for_seeds(runner.space, range(start, start + nn_contexts)),
-                                    single_action(runner.space), seed)
+                                    single_action(runner.space, task), seed)
         finally:
             runner.close()
         record = dict(method=method, fidelity="mbd", table=NearestNeighbour.from_search(found).to_json_dict(),
                       contexts=nn_contexts, solved=int(found.solved.sum()), seeds=[start, nn_contexts])
-    record.update(seed=seed, episodes=runner.episodes, wall_time=time.perf_counter() - t0, start=SINGLE,
-                  command=f"python benchmarks/rl_policies.py --methods {method} --seeds {seed}")
+    record.update(seed=seed, episodes=runner.episodes, wall_time=time.perf_counter() - t0,
+                  start=task.single or "the box's centre",
+                  command=f"python benchmarks/rl_policies.py{task_option(task)} --methods {method} --seeds {seed}")
     with tempfile.TemporaryDirectory(prefix="aero-policy-") as tmp:
         Path(tmp, "policy.json").write_text(json.dumps(record, indent=1) + "\n")
         _replace(dest, [Path(tmp, "policy.json")])
     return record
+
+
+def task_option(task: Task) -> str:
+    """The option that names ``task`` on a command line (none for the default task)."""
+    return "" if task.name == "contexts" else f" --task {task.name}"
 
 
 def _replace(dest: Path, files: list[Path]) -> None:
@@ -225,7 +239,8 @@ def checked_args(prog: str, args, allowed, minimums) -> tuple[list[str], list[in
         sys.exit(f"{prog}: --seeds {args.seeds!r}: give seeds (0 or more) as 0-4 or 0,2,5")
 
 
-def check_training_ranges(prog: str, methods, seeds, map_episodes: int, nn_contexts: int) -> None:
+def check_training_ranges(prog: str, methods, seeds, map_episodes: int, nn_contexts: int,
+                          task: Task = CONTEXTS) -> None:
     """Every map and nearest-neighbour seed draws its training contexts from its own block of episode seeds, below
     nearest neighbour's block (maps) or below 10^5 (nearest neighbour), so no two seeds and no two methods share
     a context, and none reaches the watch or hold-out sets; a setting that would is refused in one line."""
@@ -233,7 +248,7 @@ def check_training_ranges(prog: str, methods, seeds, map_episodes: int, nn_conte
     from aero_env.design_space import DesignSpace
     from agents.context_maps import MAP_SEEDS, map_block_size, map_seed_span
 
-    space = DesignSpace(load_config(CONFIG))
+    space = DesignSpace(load_config(task.config))
     for method in methods:
         if method in MAP_METHODS:
             if max(seeds) >= MAP_SEEDS:
@@ -274,7 +289,9 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--methods", default=",".join(METHODS), help=f"comma-separated, of {', '.join(METHODS)}")
     ap.add_argument("--seeds", default="0-4", help="training seeds: 0-4 or 0,2,5")
-    ap.add_argument("--out", default="policies/contexts", help="where they go (OUT/METHOD/seedS)")
+    ap.add_argument("--task", default="contexts", choices=tuple(TASKS),
+                    help="the maker's contexts, or the hard task (wider shelves, 8 frames)")
+    ap.add_argument("--out", help="where they go (OUT/METHOD/seedS); default the task's policies/ folder")
     ap.add_argument("--timesteps", type=int, default=TIMESTEPS, help="an RL policy's training episodes")
     ap.add_argument("--finish-episodes", type=int, default=FINISH_EPISODES,
                     help="ppo-multifidelity's episodes at mbd, after its pretraining at reduced")
@@ -288,18 +305,21 @@ def main() -> None:
         ("--map-episodes", args.map_episodes, 1),
         ("--nn-contexts", args.nn_contexts, 1), ("--watch", args.watch, 1), ("--curve-every", args.curve_every, 0)))
     methods = [m for m in METHODS if m in methods]  # a pretraining before the run that finishes it
-    check_training_ranges("rl_policies", methods, seeds, args.map_episodes, args.nn_contexts)
+    task = TASKS[args.task]
+    args.out = args.out or task.policies
+    check_training_ranges("rl_policies", methods, seeds, args.map_episodes, args.nn_contexts, task)
     check_pretrained("rl_policies", methods, seeds, Path(args.out))
     t0 = time.perf_counter()
     for method in methods:
         for seed in seeds:
             dest = Path(args.out, method, f"seed{seed}")
             if method in RL_METHODS:
-                run = train_rl(method, seed, args.timesteps, dest, args.watch, args.curve_every, args.finish_episodes)
+                run = train_rl(method, seed, args.timesteps, dest, args.watch, args.curve_every, args.finish_episodes,
+                               task)
                 print(f"{method} seed {seed}: {run['timesteps_done']} episodes in {run['wall_time']:.0f} s "
                       f"(+{run['wall_time_with_curve'] - run['wall_time']:.0f} s watching)", flush=True)
             else:
-                rec = fit_baseline(method, seed, dest, args.map_episodes, args.nn_contexts)
+                rec = fit_baseline(method, seed, dest, args.map_episodes, args.nn_contexts, task)
                 print(f"{method} seed {seed}: {rec['episodes']} episodes in {rec['wall_time']:.0f} s", flush=True)
     print(f"all in {time.perf_counter() - t0:.0f} s")
 

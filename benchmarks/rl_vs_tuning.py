@@ -1,7 +1,8 @@
 """Context -> design: RL, black-box maps, nearest neighbour and the per-context oracle against the best
 single design, on the maker's contexts, over training seeds, with intervals.
 
-    python benchmarks/rl_vs_tuning.py [--holdout-seed S] [--holdout 200] [--methods M,...] [--seeds 0-9]
+    python benchmarks/rl_vs_tuning.py [--task contexts|hard] [--holdout-seed S] [--holdout 200] [--methods M,...]
+                                      [--seeds 0-9]
                                       [--policies policies/contexts] [--policy DIR] [--no-flips]
                                       [--retrain [--timesteps 40960] [--finish-episodes 3072] [--map-episodes 40960]
                                        [--nn-contexts 128]]
@@ -56,19 +57,20 @@ import numpy as np
 
 from aero_env.intervals import BOOTSTRAP_REPS, difference_interval, iqm_interval, seeds_then_contexts
 
-from rl_holdout import CONFIG, SCENE, SINGLE, holdout_seeds, single_action, watch_seeds
+from rl_holdout import TASKS, Task, holdout_seeds, single_action, watch_seeds
 from rl_policies import (FINISH_EPISODES, MAP_METHODS, METHODS as TRAINED, RL_METHODS, check_pretrained, check_training_ranges,
                          checked_args)
 
 METHODS = ("prototype", "single", *MAP_METHODS, "nearest-neighbour", "ppo", "sac", "ppo-reduced", "ppo-multifidelity",
            "oracle")
-POLICIES = "policies/contexts"
+HARD_METHODS = ("prototype", "linear-map", "mlp-map", "nearest-neighbour", "ppo-reduced", "oracle")  # shipped there
+ORACLE_RESTART = dict(max_evals=600, popsize=12)  # each of a task's oracle_restarts
 IQM_SEEDS = 4      # the fewest seeds an IQM of seeds is given for (it keeps the middle half of them)
 
 
-def single_record() -> dict:
+def single_record(task: Task) -> dict:
     """The episodes and wall time the stored single design's tune spent, from its header."""
-    head = Path(SINGLE).read_text()
+    head = Path(task.single).read_text()
     trials = int(re.search(r"trial \d+ of (\d+)", head).group(1))
     seeds = len(re.search(r"traversals per seed \[([^\]]*)\]", head).group(1).split(","))
     minutes = re.search(r"\((\d+) min on one core", head)
@@ -138,33 +140,32 @@ def load_players(method: str, seeds: list[int], root: Path, space) -> list[dict]
 
 
 def score_rows(methods, seeds: dict, root: Path, runner, fast, draws, flips: bool, holdout_seed: int,
-               policy_dir: str | None) -> tuple[list[dict], dict]:
+               policy_dir: str | None, task: Task = TASKS["contexts"]) -> tuple[list[dict], dict]:
     """Every method's hold-out rows; and the actions each seed chose (for the design table). ``fast``: a runner
     at ``reduced``, which replays each method's designs to show where the fast rung parts from ``mbd`` on them."""
-    from agents.context_maps import search_contexts
     from agents.episode_runner import fresh_builds
 
     space = runner.space
     obs = runner.observations(draws)
     rebuilt = fresh_builds(space, draws, seed=7919 + holdout_seed)
     ulp_up = np.random.default_rng(4242 + holdout_seed).random((len(draws), space.dim)) < 0.5
-    start = single_action(space)
-    rows, chosen = [], {}
+    start = single_action(space, task)
+    rows, chosen, tried = [], {}, []
     for method in methods:
         t0 = time.perf_counter()
         if method == "prototype":
             players = [dict(seed=None, act=lambda o, a=space.action_for(dtype=np.float64): np.tile(a, (len(o), 1)),
                             episodes=0, wall_s=0.0, trained_at="-")]
         elif method == "single":
-            rec = single_record()
+            rec = single_record(task)
             players = [dict(seed=None, act=lambda o: np.tile(start, (len(o), 1)), episodes=rec["episodes"],
                             wall_s=rec["wall_s"], trained_at="mbd")]
         elif method == "oracle":
             before = runner.episodes
-            found = search_contexts(runner, draws, start, seed=0)
+            found = oracle_search(runner, draws, start, task, tried)
             players = [dict(seed=0, act=lambda o, a=found.actions: a, episodes=runner.episodes - before,
                             wall_s=time.perf_counter() - t0, trained_at="mbd (each hold-out episode)",
-                            solved=int(found.solved.sum()))]
+                            solved=int(found.solved.sum()), evaluations=found.evaluations.tolist())]
         elif method == "policy":
             players = [rl_player(policy_dir)]
         else:
@@ -184,6 +185,7 @@ def score_rows(methods, seeds: dict, root: Path, runner, fast, draws, flips: boo
                 flip_ulp.append(float(np.mean(runner.whole_rows(draws, one_ulp_nudge(actions, ulp_up)) != w)))
                 flip_build.append(float(np.mean(runner.whole_rows(rebuilt, actions) != w)))
             chosen.setdefault(method, []).append(actions)
+            tried.append((actions, t))
         whole, at_fast = np.array(whole), np.array(at_fast)
         mean, ci = seeds_then_contexts(whole)
         ci_apart = seeds_then_contexts(whole, contexts="per seed")[1]  # for comparison (docs/agents.md)
@@ -203,8 +205,8 @@ def score_rows(methods, seeds: dict, root: Path, runner, fast, draws, flips: boo
             row["iqm_seeds"], row["iqm_seeds_ci"] = iqm_interval(np.array(per_seed)[:, None])
         if flips:
             row.update(flips_ulp=float(np.mean(flip_ulp)), flips_build=float(np.mean(flip_build)))
-        if "solved" in players[0]:
-            row["solved"] = players[0]["solved"]
+        if "solved" in players[0]:  # the oracle: contexts solved, and the episodes it spent on each
+            row["solved"], row["evaluations"] = players[0]["solved"], players[0]["evaluations"]
         rows.append(row)
     by = {r["method"]: r for r in rows}
     if {"single", "oracle"} <= set(by) and by["oracle"]["mean"] > by["single"]["mean"]:
@@ -212,6 +214,32 @@ def score_rows(methods, seeds: dict, root: Path, runner, fast, draws, flips: boo
         for r in rows:
             r["gap_closed"] = (r["mean"] - by["single"]["mean"]) / gap
     return rows, chosen
+
+
+def oracle_search(runner, draws, start: np.ndarray, task: Task, tried: list):
+    """The per-context oracle: a search on each hold-out episode itself. On a task with a single design, from it
+    (193 episodes at most). On one without, from the best design any method scored before it chose for that context
+    (most traversals; the first such), so that the oracle makes every row a method made; then ``task.oracle_restarts``
+    searches from the box's centre (:data:`ORACLE_RESTART`) on the contexts still unsolved, each keeping what did
+    best."""
+    from agents.context_maps import search_contexts
+
+    if task.single is not None or not tried:
+        found = search_contexts(runner, draws, start, seed=0)
+    else:
+        acts, trav = np.stack([a for a, _ in tried]), np.stack([t for _, t in tried])
+        found = search_contexts(runner, draws, acts[np.argmax(trav, axis=0), np.arange(len(draws))], seed=0)
+    for restart in range(1, task.oracle_restarts + 1):
+        left = np.flatnonzero(~found.solved)
+        if not len(left):
+            break
+        again = search_contexts(runner, [draws[i] for i in left], np.zeros(runner.space.dim), seed=restart,
+                                **ORACLE_RESTART)
+        better = again.traversals > found.traversals[left]
+        for name in ("actions", "solved", "traversals"):
+            getattr(found, name)[left[better]] = getattr(again, name)[better]
+        found.evaluations[left] += again.evaluations
+    return found
 
 
 def one_ulp_nudge(actions: np.ndarray, up: np.ndarray) -> np.ndarray:
@@ -334,16 +362,17 @@ def plot_curves(found: dict, single_watch: float | None, path: str) -> None:
     plt.close(fig)
 
 
-def retrain(methods, seeds, root: Path, args) -> None:
+def retrain(methods, seeds, root: Path, args, task: Task) -> None:
     from rl_policies import fit_baseline, train_rl
 
     for method in [m for m in TRAINED if m in methods]:  # a pretraining before the run that finishes it
         for seed in seeds:
             dest = root / method / f"seed{seed}"
             if method in RL_METHODS:
-                train_rl(method, seed, args.timesteps, dest, args.watch, args.curve_every, args.finish_episodes)
+                train_rl(method, seed, args.timesteps, dest, args.watch, args.curve_every, args.finish_episodes,
+                         task)
             elif method in TRAINED:
-                fit_baseline(method, seed, dest, args.map_episodes, args.nn_contexts)
+                fit_baseline(method, seed, dest, args.map_episodes, args.nn_contexts, task)
 
 
 def pct_ci(value: float, ci: list[float]) -> str:
@@ -352,8 +381,8 @@ def pct_ci(value: float, ci: list[float]) -> str:
 
 def print_table(rep: dict) -> None:
     seeds = holdout_seeds(rep["holdout_seed"], rep["holdout"])
-    print(f"{SCENE} ({CONFIG}), whole row = {rep['frames'] - 1} traversals; {rep['holdout']} hold-out contexts "
-          f"(seeds {seeds[0]}..{seeds[-1]}), every method scored at mbd")
+    print(f"{rep['scene']} ({rep['config']}), whole row = {rep['frames'] - 1} traversals; {rep['holdout']} hold-out "
+          f"contexts (seeds {seeds[0]}..{seeds[-1]}), every method scored at mbd")
     print("| method | seeds | trained at | episodes / seed | wall / seed | whole row: mean [95 % CI] | "
           "mean traversals | flips: 1 ulp / rebuilt | gap closed |")
     print("|---|---|---|---|---|---|---|---|---|")
@@ -367,13 +396,15 @@ def print_table(rep: dict) -> None:
         if r["seeds"] > 1:
             iqm = f"; IQM of the seeds {pct_ci(r['iqm_seeds'], r['iqm_seeds_ci'])}" if "iqm_seeds" in r else ""
             print(f"{r['method']} per seed: " + ", ".join(f"{100 * s:.1f} %" for s in r["per_seed"]) + iqm)
-    shown = [d for d in rep["differences"] if d["b"] in ("single", "ppo") or d["a"] == "ppo"]
+    # each method against the references: the single design and PPO, or on a task without them the linear map
+    refs = [m for m in ("single", "ppo") if m in {r["method"] for r in rep["rows"]}] or ["linear-map"]
+    shown = [d for d in rep["differences"] if d["b"] in refs or d["a"] == refs[-1]]
     if shown:
         print("differences in whole-row share, paired on the hold-out contexts (every pair in the JSON):")
         print("| a - b | difference [95 % CI] | apart |")
         print("|---|---|---|")
         for d in shown:
-            a, b = (d["a"], d["b"]) if d["b"] in ("single", "ppo") else (d["b"], d["a"])
+            a, b = (d["a"], d["b"]) if d["b"] in refs else (d["b"], d["a"])
             diff, (lo, hi) = difference(rep["differences"], a, b)
             print(f"| {a} - {b} | {100 * diff:+.1f} points [{100 * lo:+.1f}, {100 * hi:+.1f}] | "
                   f"{'yes' if d['apart'] else 'no'} |")
@@ -423,10 +454,14 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--holdout", type=int, default=200, help="hold-out contexts")
     ap.add_argument("--holdout-seed", type=int, default=0, help="which hold-out contexts: seeds 10^6·(S+1) onward")
-    ap.add_argument("--methods", default=",".join(METHODS), help=f"comma-separated, of {', '.join(METHODS)}")
+    ap.add_argument("--task", default="contexts", choices=tuple(TASKS),
+                    help="the maker's contexts (default), or the hard task: wider shelves on the 8-frame row")
+    ap.add_argument("--methods", help=f"comma-separated, of {', '.join(METHODS)}; default all (--task hard: "
+                                      f"{', '.join(HARD_METHODS)}, the ones shipped for it)")
     ap.add_argument("--seeds", help="the training seeds scored (0-9 or 0,2,5); default every seed 0-9 that "
                                     "--policies holds (--retrain: 0-9)")
-    ap.add_argument("--policies", default=POLICIES, help="the shipped policies and maps (DIR/METHOD/seedS)")
+    ap.add_argument("--policies", help="the shipped policies and maps (DIR/METHOD/seedS); default the task's, "
+                                       "policies/contexts or policies/contexts-hard")
     ap.add_argument("--policy", metavar="DIR", help="also score the policy aero-env train wrote in DIR")
     ap.add_argument("--skip-missing", action="store_true",
                     help="with --seeds: score the ones a method has in --policies (the table says how many)")
@@ -442,6 +477,9 @@ def main() -> None:
     ap.add_argument("--plot", metavar="FILE.png", help="draw the RL learning curves (watch contexts)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
+    task = TASKS[args.task]
+    args.methods = args.methods or ",".join(METHODS if task.single else HARD_METHODS)
+    args.policies = args.policies or task.policies
     shipped = args.seeds is None and not args.retrain  # the default: whichever of seeds 0-9 are shipped
     if args.seeds is None:
         args.seeds = "0-9"
@@ -450,8 +488,10 @@ def main() -> None:
         ("--map-episodes", args.map_episodes, 1),
         ("--nn-contexts", args.nn_contexts, 1), ("--holdout", args.holdout, 1),
         ("--holdout-seed", args.holdout_seed, 0), ("--watch", args.watch, 1), ("--curve-every", args.curve_every, 0)))
+    if "single" in methods and task.single is None:
+        sys.exit(f"rl_vs_tuning: --methods single: the {task.name} task has no stored single design; leave it out")
     if args.retrain:
-        check_training_ranges("rl_vs_tuning", methods, seeds, args.map_episodes, args.nn_contexts)
+        check_training_ranges("rl_vs_tuning", methods, seeds, args.map_episodes, args.nn_contexts, task)
         check_pretrained("rl_vs_tuning", [m for m in TRAINED if m in methods], seeds, Path(args.policies))
     if args.policy and not Path(args.policy, "run.json").is_file():
         sys.exit(f"rl_vs_tuning: --policy {args.policy}: no run.json there; give a folder aero-env train wrote")
@@ -471,39 +511,40 @@ def main() -> None:
     from aero_env.config import ConfigError, load_config
     from agents.episode_runner import EpisodeRunner, draws_for_seeds
 
-    cfg = load_config(CONFIG)
+    cfg = load_config(task.config)
     if args.policy:
         from agents.rl import load_run
 
         _, trained_on, _ = load_run(args.policy)
         if trained_on.replace({"sim.fidelity": cfg.sim.fidelity}) != cfg:  # any fidelity of this scene
-            sys.exit(f"rl_vs_tuning: --policy {args.policy}: trained on another scene than {CONFIG} (its config.yaml)")
+            sys.exit(f"rl_vs_tuning: --policy {args.policy}: trained on another scene than {task.config} (its "
+                     f"config.yaml)")
         methods.append("policy")
     if args.retrain:
-        retrain(methods, seeds, root, args)
+        retrain(methods, seeds, root, args, task)
     runner = EpisodeRunner(cfg)
-    fast = EpisodeRunner(load_config(CONFIG, {"sim.fidelity": "reduced"}))
+    fast = EpisodeRunner(load_config(task.config, {"sim.fidelity": "reduced"}))
     try:
         draws = draws_for_seeds(runner.space, holdout_seeds(args.holdout_seed, args.holdout))
         rows, chosen = score_rows(methods, have, root, runner, fast, draws, not args.no_flips, args.holdout_seed,
-                                  args.policy)
+                                  args.policy, task)
         found = curves(methods, seeds, root)
         single_watch = None
         if args.plot and found:
             wd = draws_for_seeds(runner.space, watch_seeds(args.watch))
-            single_watch = float(np.mean(runner.whole_rows(wd, np.tile(single_action(runner.space),
+            single_watch = float(np.mean(runner.whole_rows(wd, np.tile(single_action(runner.space, task),
                                                                         (len(wd), 1)))))
     except ConfigError as exc:
         sys.exit(f"rl_vs_tuning: {exc}")
     finally:
         runner.close()
         fast.close()
-    follows_method = next((m for m in ("ppo", "policy", "sac") if m in chosen), None)
+    follows_method = next((m for m in ("ppo", "policy", "sac", "ppo-reduced") if m in chosen), None)
     follows = design_follows(cfg, runner.observations(draws), chosen[follows_method]) if follows_method else []
     if args.plot and found:
         plot_curves(found, single_watch, args.plot)
     diffs = differences(rows)
-    rep = dict(scene=SCENE, config=CONFIG, frames=cfg.scene.frames, holdout=args.holdout,
+    rep = dict(task=task.name, scene=task.scene, config=task.config, frames=cfg.scene.frames, holdout=args.holdout,
                holdout_seed=args.holdout_seed, retrain_s=retrain_seconds(root), policies=str(root), rows=rows,
                curves=found, recipe=recipe(rows, diffs), differences=diffs,
                follows_method=follows_method, design_follows=follows, nudge="1 float32 ulp",

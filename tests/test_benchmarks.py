@@ -276,3 +276,28 @@ def test_the_knife_edge_nudge_moves_every_action_component_by_one_float32_ulp():
         assert y == np.nextafter(x, np.float32(np.inf if u else -np.inf)) and y != x
     # worked by hand: float32's step is 2^-24 in [0.5, 1) and 2^-25 in [0.25, 0.5)
     assert nudged[0, 0] == 0.5 + 2.0 ** -24 and nudged[0, 1] == -0.25 - 2.0 ** -25
+
+
+def test_one_map_fit_gives_every_smaller_budgets_map_exactly():
+    """map_budgets fits once to the largest budget: the map it keeps for a smaller budget is the very map a fit with
+    that budget returns (same seed, same contexts), and a fit's contexts start where it is told."""
+    from aero_env.config import load_config
+    from agents.context_maps import fit_map
+    from agents.episode_runner import EpisodeRunner
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    try:
+        from map_budgets import map_at_budgets
+    finally:
+        sys.path.remove(str(ROOT / "benchmarks"))
+    runner = EpisodeRunner(load_config(ROOT / "configs" / "contexts.yaml", {"sim.fidelity": "reduced"}))
+    start = np.zeros(runner.space.dim)
+    got = map_at_budgets(runner, "linear", 3, [900, 1664, 2000, 3000], start)  # 832 episodes a generation
+    for budget in (900, 1664, 2000, 3000):
+        alone, history = fit_map(runner, "linear", 3, budget, start=start, first_context=260_000)
+        assert np.array_equal(got[budget][0], alone.params), budget
+        assert history[-1]["episodes"] == 832 * (budget // 832)
+    other, _ = fit_map(runner, "linear", 3, 900, start=start, first_context=250_000)
+    assert not np.array_equal(other.params, got[900][0])  # other contexts, another map
+    assert "past a seed's block of 20000" in _bench("map_budgets.py", "--budgets", "400000", expect=1)
+    assert "too few for one CMA-ES generation" in _bench("map_budgets.py", "--budgets", "100", expect=1)

@@ -163,3 +163,22 @@ def test_each_of_ten_map_seeds_has_its_own_block_of_training_contexts():
         assert spans[-1][1] < 60_000 and spans[0][0] == 10_000
     with pytest.raises(ValueError, match="seed = 10: a map's training seeds are 0-9"):
         map_block_start(10)
+
+
+def test_a_search_can_start_each_context_from_its_own_design():
+    """``start`` with one row per context: a context whose own start makes the row costs one episode and keeps that
+    start; one row repeated for every context is the one-design search, episode for episode."""
+    rng = np.random.default_rng(6)
+    targets = [*rng.uniform(-0.6, 0.6, (6, 3))]
+    starts = np.array(targets)
+    starts[3:] = 0.0  # the last three start from the centre, away from their targets
+    runner = _Peak()
+    found = search_contexts(runner, targets, starts, seed=2, max_evals=81, popsize=8)
+    assert found.solved[:3].all() and (found.evaluations[:3] == 1).all()
+    assert np.array_equal(found.actions[:3], starts[:3])
+    one, rows = _Peak(), _Peak()
+    a = search_contexts(one, targets, np.zeros(3), seed=2, max_evals=81, popsize=8)
+    b = search_contexts(rows, targets, np.zeros((6, 3)), seed=2, max_evals=81, popsize=8)
+    for name in ("actions", "solved", "traversals", "evaluations"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert one.episodes == rows.episodes

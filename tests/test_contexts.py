@@ -19,6 +19,7 @@ from .conftest import PAPER
 
 CONTEXTS = PAPER.parent / "contexts.yaml"
 SINGLE = PAPER.parent / "contexts_single.yaml"
+HARD = PAPER.parent / "contexts_hard.yaml"
 ROOT = PAPER.parent.parent
 
 
@@ -27,6 +28,20 @@ def test_the_contexts_config_is_the_registered_scene():
     assert cfg == load_config(None, ENVIRONMENTS["aero_env/AerialAcrobatContexts-v0"])
     assert [c.name for c in cfg.context] == ["scene.rise", "scene.pitch", "design.m2", "design.mu_s"]
     assert "design.Lb" in [t.name for t in cfg.tunable] and "design.mu_s" not in [t.name for t in cfg.tunable]
+
+
+def test_the_hard_config_is_the_registered_hard_scene():
+    """The hard task is the maker's contexts widened, with the same choices and cutting error, on the 8-frame row: the
+    numbers its docs and header state."""
+    hard, cfg = load_config(HARD), load_config(CONTEXTS)
+    assert hard == load_config(None, ENVIRONMENTS["aero_env/AerialAcrobatContexts-Hard-v0"])
+    assert hard.scene.frames == 8
+    assert [(c.name, c.low, c.high) for c in hard.context] == [
+        ("scene.rise", -0.006, 0.014), ("scene.pitch", 0.064, 0.094), ("design.m2", 0.0065, 0.012),
+        ("design.mu_s", 0.283, 0.542)]
+    assert hard.tunable == cfg.tunable and hard.tolerance == cfg.tolerance
+    for wide, narrow in zip(hard.context, cfg.context):  # every range of the maker's contexts lies inside
+        assert wide.name == narrow.name and wide.low <= narrow.low and narrow.high <= wide.high
 
 
 def test_a_linked_context_moves_its_follower_by_the_same_factor():
@@ -334,3 +349,40 @@ def test_rl_vs_tuning_retrains_every_kind_of_method_into_a_folder(tmp_path):
     assert stale.returncode != 0 and stale.stderr.count("\n") == 1, stale.stderr
     assert stale.stderr.startswith(f"rl_vs_tuning: {tmp_path / 'p' / 'ppo-multifidelity' / 'seed0'} was finished "
                                    f"from another ppo-reduced policy"), stale.stderr
+
+
+@pytest.mark.slow
+def test_rl_vs_tuning_scores_the_hard_task_on_its_own_scene_and_its_oracle_makes_every_row_a_method_made():
+    """--task hard re-scores the maps shipped for the hard task on the hard scene (checked through the registered
+    id itself), and its oracle, which starts each context from the best design a method chose for it, makes every
+    whole row any seed of any method made there."""
+    import gymnasium as gym
+
+    args = [sys.executable, "benchmarks/rl_vs_tuning.py", "--task", "hard", "--holdout", "5", "--holdout-seed", "3",
+            "--json", "--seeds", "0-1", "--no-flips", "--methods", "prototype,linear-map,nearest-neighbour,oracle"]
+    done = subprocess.run(args, capture_output=True, text=True, cwd=ROOT, timeout=900)
+    assert done.returncode == 0, done.stderr
+    rep = json.loads(done.stdout)
+    assert (rep["task"], rep["scene"], rep["config"], rep["frames"]) == (
+        "hard", "aero_env/AerialAcrobatContexts-Hard-v0", "configs/contexts_hard.yaml", 8)
+    by = {r["method"]: r for r in rep["rows"]}
+    env = gym.make("aero_env/AerialAcrobatContexts-Hard-v0")
+    seeds = range(4_000_000, 4_000_005)
+    played = []
+    for s in seeds:
+        env.reset(seed=s)
+        played.append(env.step(env.unwrapped.space.action_for())[4]["traversals"])
+    assert by["prototype"]["mean_traversals"] == pytest.approx(np.mean(played))
+    assert by["prototype"]["outcomes"] == [[int(t >= 7) for t in played]]
+    made = np.zeros(5, bool)
+    for m in ("linear-map", "nearest-neighbour"):
+        assert np.shape(by[m]["outcomes"]) == (2, 5) and by[m]["trained_at"] in ("reduced", "mbd")
+        made |= np.array(by[m]["outcomes"], bool).any(axis=0)
+    oracle = np.array(by["oracle"]["outcomes"][0], bool)
+    assert (oracle >= made).all() and by["oracle"]["solved"] == oracle.sum()
+    assert made.any() and all(by["oracle"]["evaluations"][i] == 1 for i in np.flatnonzero(made))  # its first try
+    assert sum(by["oracle"]["evaluations"]) == by["oracle"]["episodes"]
+    bad = subprocess.run([sys.executable, "benchmarks/rl_vs_tuning.py", "--task", "hard", "--methods", "single"],
+                         capture_output=True, text=True, cwd=ROOT, timeout=600)
+    assert bad.returncode != 0 and bad.stderr.strip() == ("rl_vs_tuning: --methods single: the hard task has no "
+                                                          "stored single design; leave it out")

@@ -200,8 +200,8 @@ class AerialAcrobatEnv(gym.Env):
     tolerances changed, as simulated, SI).
 
     The spec's ``reward_threshold`` is the whole row of the id's own scene (``frames - 1``: 7 on the
-    prototype's 8 frames, 4 on ``AerialAcrobatContexts-v0``'s 5), which only a completed run reaches,
-    shaped or not; it is fixed per id, so with ``scene.frames`` (or ``config``) overridden the whole row
+    prototype's 8 frames, 4 on ``AerialAcrobatContexts-v0``'s 5, 7 on the hard task's 8), which only a
+    completed run reaches, shaped or not; it is fixed per id, so with ``scene.frames`` (or ``config``) overridden the whole row
     is that scene's ``frames - 1``, not the threshold.
 
     ``reset()`` starts the next episode. A ``step()`` after ``terminated=True`` without a ``reset()`` warns once
@@ -287,6 +287,8 @@ class AerialAcrobatEnv(gym.Env):
       returns ``truncated=False`` (was True beside ``terminated=True``) and ``check_env(gym.make(id))``
       passes; ``reward_threshold`` kept; rewards unchanged. ``reset(options=...)`` refuses an option the
       env does not read.
+    * v0: ``AerialAcrobatContexts-Hard-v0`` (``configs/contexts_hard.yaml``: the maker's contexts over a room's
+      range, rows that fall or climb, on the 8-frame row); the other ids unchanged.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": ANIMATION_FPS}
