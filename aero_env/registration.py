@@ -17,6 +17,21 @@ VECTOR_ENTRY_POINT = "aero_env.envs.aerial_acrobat_vector:AerialAcrobatVectorEnv
 # wrong targets, and check_env(gym.make(id)) failed ("truncates after 1 step"). Truncation means a limit outside the
 # task; this episode has none.
 
+def _maker_choices() -> list[dict]:
+    """What the maker chooses on the maker's contexts and on their hard sibling (a fresh list for each id): the
+    counterbalance (m3 in 0.1 g, h, La), the spring and the handrail's distance Lb, each relative to the scene."""
+    return [{"name": "design.m3", "low": 0.5, "high": 1.6, "relative_to": "design.m2", "step": 1e-4},
+            {"name": "design.h", "low": -0.2, "high": 0.4, "relative_to": "design.La"},
+            {"name": "design.La", "low": 0.75, "high": 1.35, "relative_to": "design.La"},
+            {"name": "design.spring_k", "low": 0.22, "high": 4.5, "scale": "log", "relative_to": "design.spring_k"},
+            {"name": "design.Lb", "low": 0.8, "high": 1.3, "relative_to": "design.Lb"}]
+
+
+def _cutting_error() -> list[dict]:
+    """The build's cutting error, drawn at reset and not observed: the counterbalance's mass ±2 %, its arm La ±0.3 mm."""
+    return [{"name": "design.m3", "relative": 0.02}, {"name": "design.La", "absolute": 0.0003}]
+
+
 ENVIRONMENTS: dict[str, dict] = {
     # The prototype's scene: Table 1 masses and lengths on the 8-frame row of configs/paper.yaml.
     "aero_env/AerialAcrobat-v0": {},
@@ -27,7 +42,7 @@ ENVIRONMENTS: dict[str, dict] = {
     "aero_env/AerialAcrobatVaried-v0": {
         "context": [{"name": "scene.rise", "low": 0.0, "high": 0.004}, {"name": "scene.pitch"},
                     {"name": "design.m2", "low": 0.0065, "high": 0.009}],
-        "tolerance": [{"name": "design.m3", "relative": 0.02}, {"name": "design.La", "absolute": 0.0003}],
+        "tolerance": _cutting_error(),
     },
     # The maker's contexts (configs/contexts.yaml): four things a maker knows before cutting card, each drawn
     # wide enough that the design must follow it. The row's rise (0-10 mm a frame) and pitch (70-86 mm), the
@@ -41,13 +56,8 @@ ENVIRONMENTS: dict[str, dict] = {
                     {"name": "scene.pitch", "low": 0.070, "high": 0.086},
                     {"name": "design.m2", "low": 0.0065, "high": 0.010},
                     {"name": "design.mu_s", "low": 0.283, "high": 0.542, "linked": ["design.mu_k"]}],
-        "tunable": [{"name": "design.m3", "low": 0.5, "high": 1.6, "relative_to": "design.m2", "step": 1e-4},
-                    {"name": "design.h", "low": -0.2, "high": 0.4, "relative_to": "design.La"},
-                    {"name": "design.La", "low": 0.75, "high": 1.35, "relative_to": "design.La"},
-                    {"name": "design.spring_k", "low": 0.22, "high": 4.5, "scale": "log",
-                     "relative_to": "design.spring_k"},
-                    {"name": "design.Lb", "low": 0.8, "high": 1.3, "relative_to": "design.Lb"}],
-        "tolerance": [{"name": "design.m3", "relative": 0.02}, {"name": "design.La", "absolute": 0.0003}],
+        "tunable": _maker_choices(),
+        "tolerance": _cutting_error(),
     },
     # The maker's wider shelves (configs/contexts_hard.yaml): the same four contexts over a room's range, a row that
     # falls 6 mm or climbs 14 mm a frame, frames 64-94 mm apart, four to eight coins, on the paper's 8-frame row
@@ -59,13 +69,8 @@ ENVIRONMENTS: dict[str, dict] = {
                     {"name": "scene.pitch", "low": 0.064, "high": 0.094},
                     {"name": "design.m2", "low": 0.0065, "high": 0.012},
                     {"name": "design.mu_s", "low": 0.283, "high": 0.542, "linked": ["design.mu_k"]}],
-        "tunable": [{"name": "design.m3", "low": 0.5, "high": 1.6, "relative_to": "design.m2", "step": 1e-4},
-                    {"name": "design.h", "low": -0.2, "high": 0.4, "relative_to": "design.La"},
-                    {"name": "design.La", "low": 0.75, "high": 1.35, "relative_to": "design.La"},
-                    {"name": "design.spring_k", "low": 0.22, "high": 4.5, "scale": "log",
-                     "relative_to": "design.spring_k"},
-                    {"name": "design.Lb", "low": 0.8, "high": 1.3, "relative_to": "design.Lb"}],
-        "tolerance": [{"name": "design.m3", "relative": 0.02}, {"name": "design.La", "absolute": 0.0003}],
+        "tunable": _maker_choices(),
+        "tolerance": _cutting_error(),
     },
 }
 
