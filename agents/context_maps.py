@@ -149,12 +149,13 @@ class ContextSearch:
 
 
 def search_contexts(runner: EpisodeRunner, draws: list, start: np.ndarray, seed: int, max_evals: int = 200,
-                    popsize: int = 8) -> ContextSearch:
+                    popsize: int = 8, sigma: float = SEARCH_STEP) -> ContextSearch:
     """Search each episode (context + build) of ``draws`` for a design that completes the whole row: the start
-    design first, then CMA-ES about it (step :data:`SEARCH_STEP`, ``popsize`` designs a generation, every open
+    design first, then CMA-ES about it (first step ``sigma``, ``popsize`` designs a generation, every open
     context's generation in one batch), until a design makes the row or ``max_evals`` episodes are spent. A
     context keeps the first design that made the row, else the best seen (most traversals, first). ``start``: one
-    design for every context, or one row per context."""
+    design for every context, or one row per context. A context solved after ``evaluations`` episodes is solved by a
+    search with any ``max_evals`` at least that, and by none with less (the budget only stops a search)."""
     from cmaes import CMA
 
     n = len(draws)
@@ -163,7 +164,7 @@ def search_contexts(runner: EpisodeRunner, draws: list, start: np.ndarray, seed:
     best = runner.traversals(draws, actions)
     solved = best >= runner.full_row
     evals = np.ones(n, dtype=np.int64)
-    opts = {i: CMA(mean=actions[i].copy(), sigma=SEARCH_STEP, bounds=np.tile([-1.0, 1.0], (actions.shape[1], 1)),
+    opts = {i: CMA(mean=actions[i].copy(), sigma=sigma, bounds=np.tile([-1.0, 1.0], (actions.shape[1], 1)),
                    seed=seed * 100_003 + i, population_size=popsize) for i in np.flatnonzero(~solved)}
     while opts:
         open_ = [i for i in opts if evals[i] + popsize <= max_evals]

@@ -33,11 +33,13 @@ BUDGET_BLOCK = 20_000
 KINDS = ("linear", "mlp")
 
 
-def map_at_budgets(runner, kind: str, seed: int, budgets: list[int], start) -> dict[int, tuple[np.ndarray, float]]:
-    """Each budget's map (its parameters) and the fit's wall time up to it, from one fit to the largest budget."""
-    from agents.context_maps import fit_map
+def map_at_budgets(runner, kind: str, seed: int, budgets: list[int], start,
+                   sigma: float | None = None) -> dict[int, tuple[np.ndarray, float, int]]:
+    """Each budget's map (its parameters), the fit's wall time up to it and the episodes it spent, from one fit to
+    the largest budget (a budget below one generation has none). ``sigma``: CMA-ES's first step (default the shipped maps')."""
+    from agents.context_maps import MAP_STEP, fit_map
 
-    got: dict[int, tuple[np.ndarray, float]] = {}
+    got: dict[int, tuple[np.ndarray, float, int]] = {}
     t0 = time.perf_counter()
     per_generation: list[int] = []
 
@@ -45,10 +47,10 @@ def map_at_budgets(runner, kind: str, seed: int, budgets: list[int], start) -> d
         per_generation.append(used)
         for b in budgets:
             if used <= b < used + per_generation[0]:  # the last generation within budget b
-                got[b] = (params.copy(), time.perf_counter() - t0)
+                got[b] = (params.copy(), time.perf_counter() - t0, used)
 
     fit_map(runner, kind, seed, max(budgets), start=start, first_context=BUDGET_BASE + BUDGET_BLOCK * seed,
-            on_generation=seen)
+            on_generation=seen, sigma=MAP_STEP if sigma is None else sigma)
     return got
 
 
@@ -72,7 +74,8 @@ def main() -> None:
         sys.exit(f"map_budgets: --budgets {args.budgets!r} / --seeds {args.seeds!r}: give whole numbers, e.g. "
                  f"4096,40960 and 0-9")
     if max(seeds) > 9:
-        sys.exit(f"map_budgets: --seeds {max(seeds)}: at most 9 (seed 10's block would reach the watch set)")
+        sys.exit(f"map_budgets: --seeds {max(seeds)}: at most 9 (each seed's contexts are its own block of "
+                 f"{BUDGET_BLOCK:,} in the budget study's {BUDGET_BASE:,}-{BUDGET_BASE + 10 * BUDGET_BLOCK - 1:,})")
     if args.holdout < 1 or args.holdout_seed < 0:
         sys.exit(f"map_budgets: --holdout {args.holdout} / --holdout-seed {args.holdout_seed}: at least 1 and 0")
     from aero_env.config import load_config

@@ -6,6 +6,7 @@ from __future__ import annotations
 import importlib.util
 import json
 import subprocess
+import tempfile
 import sys
 from pathlib import Path
 
@@ -301,3 +302,93 @@ def test_one_map_fit_gives_every_smaller_budgets_map_exactly():
     assert not np.array_equal(other.params, got[900][0])  # other contexts, another map
     assert "past a seed's block of 20000" in _bench("map_budgets.py", "--budgets", "400000", expect=1)
     assert "too few for one CMA-ES generation" in _bench("map_budgets.py", "--budgets", "100", expect=1)
+
+
+def _budget_curves():
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    try:
+        import budget_curves
+    finally:
+        sys.path.remove(str(ROOT / "benchmarks"))
+    return budget_curves
+
+
+def test_one_search_to_the_largest_budget_gives_every_smaller_budgets_outcome():
+    """budget_curves searches each context once, to the largest budget: a context counts as solved at budget b
+    exactly when a search given b episodes a context solves it (CMA-ES), and a random search's count is the one a
+    search that tries its designs one at a time finds (the batching does not move it)."""
+    from aero_env.config import load_config
+    from agents.context_maps import search_contexts
+    from agents.episode_runner import EpisodeRunner, draws_for_seeds
+
+    bc = _budget_curves()
+    runner = EpisodeRunner(load_config(ROOT / "configs" / "contexts_hard.yaml", {"sim.fidelity": "reduced"}))
+    draws = draws_for_seeds(runner.space, range(700_000, 700_030))
+    start = np.zeros(runner.space.dim)
+    first, _ = bc.cmaes_search(runner, draws, 4, 41, start, 0.3)
+    assert 0 < (first > 0).sum() < len(draws) and len(set(first[first > 0])) > 2  # a check that can fail
+    budgets = (1, 5, 9, 12, 17, 33, 41)  # episodes a context: 5 and 12 end within a generation
+    got = bc.search_budgets(first, [30 * b for b in budgets], 30, wall=1.0, spent=bc.cmaes_spent)
+    for b in budgets:  # each budget searched on its own: what it solves, and the episodes it spends
+        alone = search_contexts(runner, draws, start, 4, max_evals=b, sigma=0.3)
+        assert got.whole[30 * b] == alone.solved.astype(int).tolist(), b
+        assert got.episodes[30 * b] == alone.evaluations.sum(), b
+    assert got.wall == {30 * b: (1.0 if b == 41 else None) for b in budgets}
+    assert bc.search_budgets(first, [29], 30, wall=1.0).whole[29] is None  # under one episode a context: no score
+
+    tries, _ = bc.random_search(runner, draws[:12], 7, 20)
+    for i, d in enumerate(draws[:12]):  # one design at a time, drawn as the search draws them
+        designs = np.random.default_rng([7, i]).uniform(-1.0, 1.0, (20, runner.space.dim))
+        made = [bool(runner.whole_rows([d], designs[k:k + 1])[0]) for k in range(20)]
+        assert tries[i] == (made.index(True) + 1 if True in made else 0), i
+    assert 0 < (tries > 0).sum() < 12 and (tries > 7).any()
+    fewer, _ = bc.random_search(runner, draws[:12], 7, 7)  # a smaller budget: the same designs, cut short
+    assert np.array_equal(fewer, np.where(tries <= 7, tries, 0))
+
+
+@pytest.mark.slow
+def test_one_training_run_gives_every_smaller_budgets_policy():
+    """The policy budget_curves reads after the update on the first b episodes is the one a run of b episodes ends
+    with (PPO and SAC, at reduced), and the policies at two budgets differ."""
+    from aero_env.config import load_config
+    from agents.episode_runner import EpisodeRunner, draws_for_seeds
+
+    from agents.rl import TrainSettings, load_run, policy_actions, train
+
+    bc = _budget_curves()
+    task = bc.TASKS["hard"]
+    cfg = load_config(task.config, {"sim.fidelity": "reduced"})
+    runner = EpisodeRunner(cfg)
+    obs = runner.observations(draws_for_seeds(runner.space, range(700_000, 700_020)))
+    for learner, small, large in (("ppo", 1024, 3072), ("sac", 1088, 1152)):
+        both = bc.rl_actions(task, learner, 2, [small, large], 1e-3, obs)
+        with tempfile.TemporaryDirectory() as tmp:  # a run of the smaller budget, trained and read on its own
+            train(cfg, TrainSettings(algo=learner, timesteps=small, n_envs=32, seed=64, eval_every=0, vector=True,
+                                     progress=False, hyperparameters=dict(bc.RL[learner], learning_rate=1e-3)), tmp)
+            alone = policy_actions(load_run(tmp)[0], obs)
+        assert np.array_equal(both[small][0], alone), learner
+        assert both[small][2] == small and both[large][2] == large
+        assert not np.allclose(both[small][0], both[large][0]), learner
+
+
+def test_budget_curves_refuses_bad_options_in_one_line(tmp_path):
+    def refused(*args: str) -> str:
+        err = _bench("budget_curves.py", *args, expect=1)
+        assert err.count("\n") == 1 and err.startswith("budget_curves: "), err
+        return err
+
+    assert "--learners 'dqn'" in refused("--learners", "random,dqn")
+    assert "--seeds 10: at most 9" in refused("--seeds", "0-10")
+    assert "--holdout 0" in refused("--holdout", "0")
+    assert "--watch 9000" in refused("--watch", "9000")
+    assert "past a seed's block of 20000" in refused("--budgets", "400000")
+    assert "--tune-budget 900000" in refused("--tune-budget", "900000")
+    assert "--plot curves.txt: a file ending .png" in refused("--plot", "curves.txt")
+    assert "does not exist" in refused("--results", str(tmp_path / "no" / "run.json"))
+    other = tmp_path / "run.json"
+    other.write_text(json.dumps(dict(meta=dict(task="contexts"), tuning={}, runs={})))
+    assert "holds a run with other options" in refused("--results", str(other))
+    other.write_text("[1, 2]")
+    assert "holds a run with other options" in refused("--results", str(other))
+    other.write_text("{not json")
+    assert "not this script's JSON" in refused("--results", str(other))

@@ -386,3 +386,52 @@ def test_rl_vs_tuning_scores_the_hard_task_on_its_own_scene_and_its_oracle_makes
                          capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert bad.returncode != 0 and bad.stderr.strip() == ("rl_vs_tuning: --methods single: the hard task has no "
                                                           "stored single design; leave it out")
+
+
+def test_the_beyond_range_scene_is_the_makers_scene_with_the_hard_tasks_context_ranges():
+    """benchmarks/beyond_range.py scores the maker's policies on their own 5-frame scene, choices and cutting error,
+    with only the contexts' ranges widened to the hard task's."""
+    import dataclasses
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    try:
+        import beyond_range
+    finally:
+        sys.path.remove(str(ROOT / "benchmarks"))
+    cfg, hard = load_config(CONTEXTS), load_config(HARD)
+    assert beyond_range.beyond_scene() == dataclasses.replace(cfg, context=hard.context)
+    assert beyond_range.beyond_scene() != cfg
+    for args, says in ((["--methods", "sac", "--seeds", "5-9"], "sac is shipped for seeds 0-4 only"),
+                       (["--holdout", "0"], "--holdout = 0: must be at least 1")):
+        done = subprocess.run([sys.executable, "benchmarks/beyond_range.py", *args], capture_output=True, text=True,
+                              cwd=ROOT, timeout=300)
+        assert done.returncode == 1 and done.stderr.count("\n") == 1 and says in done.stderr, done.stderr
+
+
+@pytest.mark.slow
+def test_beyond_range_reads_each_context_as_the_methods_learnt_it_and_plays_it_on_the_wide_scene():
+    """A context beyond the training range reaches a shipped map as the training range normalises it (past +-1,
+    worked here by hand from the two files' ranges), and its outcome is the env's on the widened scene."""
+    from agents.context_maps import ParamMap
+
+    args = [sys.executable, "benchmarks/beyond_range.py", "--holdout", "6", "--holdout-seed", "3", "--seeds", "1",
+            "--methods", "single,linear-map", "--json"]
+    done = subprocess.run(args, capture_output=True, text=True, cwd=ROOT, timeout=900)
+    assert done.returncode == 0, done.stderr
+    rep = json.loads(done.stdout)
+    wide = load_config(HARD, {"scene.frames": 5})
+    env = AerialAcrobatEnv(wide)
+    shipped = ROOT / "policies" / "contexts" / "linear-map" / "seed1" / "policy.json"
+    m = ParamMap.from_json_dict(json.loads(shipped.read_text())["map"])
+    ranges = {"scene.rise": (0.0, 0.010), "scene.pitch": (0.070, 0.086), "design.m2": (0.0065, 0.010),
+              "design.mu_s": (0.283, 0.542)}  # configs/contexts.yaml's
+    made, inside = [], []
+    for s in range(4_000_000, 4_000_006):
+        ctx = env.reset(seed=s)[1]["context"]
+        x = np.array([[2.0 * (ctx[k] - lo) / (hi - lo) - 1.0 for k, (lo, hi) in ranges.items()]])
+        inside.append(bool(np.all(np.abs(x) <= 1.0)))
+        made.append(int(env.step(m.act(x)[0].astype(np.float32))[4]["traversals"] >= 4))
+    assert rep["inside"] == sum(inside) and rep["beyond"] == 6 - sum(inside) and rep["beyond"] > 0
+    by = {r["method"]: r for r in rep["rows"]}
+    assert by["linear-map"]["outcomes"] == [made]
+    assert by["single"]["seeds"] == 1 and "beyond_minus_single" in by["linear-map"]
