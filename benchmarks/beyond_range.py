@@ -26,6 +26,7 @@ import argparse
 import dataclasses
 import json
 import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -34,6 +35,7 @@ from aero_env.intervals import difference_interval, seeds_then_contexts
 
 from rl_holdout import TASKS, holdout_seeds, single_action
 from rl_policies import checked_args, parse_seeds
+from rl_vs_tuning import pct_ci
 
 METHODS = ("prototype", "single", "linear-map", "mlp-map", "nearest-neighbour", "ppo", "sac", "ppo-reduced",
            "ppo-multifidelity", "oracle")
@@ -67,8 +69,6 @@ def players_for(method: str, seeds: list[int], space, start) -> list[dict]:
         return [dict(seed=None, act=lambda o: np.tile(a, (len(o), 1)))]
     if method == "single":
         return [dict(seed=None, act=lambda o: np.tile(start, (len(o), 1)))]
-    from pathlib import Path
-
     return load_players(method, seeds, Path(TRAINED.policies), space)
 
 
@@ -170,8 +170,7 @@ def report(args) -> None:
     print("| method | seeds | inside: mean [95 % CI] | beyond: mean [95 % CI] | beyond, against single |")
     print("|---|---|---|---|---|")
     for r in rows:
-        cells = [f"{100 * r[k]['mean']:.1f} % [{100 * r[k]['ci'][0]:.1f}, {100 * r[k]['ci'][1]:.1f}]"
-                 if k in r else "-" for k in ("inside", "beyond")]
+        cells = [pct_ci(r[k]["mean"], r[k]["ci"]) if k in r else "-" for k in ("inside", "beyond")]
         d = r.get("beyond_minus_single")
         vs = "-" if d is None else f"{100 * d['diff']:+.1f} [{100 * d['ci'][0]:+.1f}, {100 * d['ci'][1]:+.1f}]"
         print(f"| {r['method']} | {r['seeds']} | {cells[0]} | {cells[1]} | {vs} |")

@@ -45,9 +45,10 @@ import numpy as np
 
 from aero_env.intervals import difference_interval, seeds_then_contexts
 
-from map_budgets import BUDGET_BASE, BUDGET_BLOCK, map_at_budgets
+from map_budgets import check_block, check_seeds, map_at_budgets
 from rl_holdout import TASKS, holdout_seeds, single_action, watch_seeds
 from rl_policies import N_ENVS, PPO_HP, SAC_HP, parse_seeds, training_seed
+from rl_vs_tuning import pct_ci
 
 LEARNERS = ("random", "cmaes", "linear-map", "mlp-map", "ppo", "sac")
 SEARCHES = ("random", "cmaes")           # a search per scored episode, at mbd
@@ -141,18 +142,11 @@ def search_budgets(first: np.ndarray, budgets, n: int, wall: float, spent=lambda
 
 def map_actions(fast, learner: str, seed: int, budgets, start, sigma: float, obs) -> dict:
     """Each budget's map's actions on ``obs`` and the fit's wall time to it (a budget below one generation: none)."""
-    from agents.context_maps import ParamMap, map_seed_span
+    from agents.context_maps import ParamMap
 
-    kind, space = MAPS[learner], fast.space
-    spans = {b: map_seed_span(kind, space.dim, space.obs_dim, 0, b) for b in budgets}
-    reachable = [b for b in budgets if spans[b][1] >= spans[b][0]]  # at least one generation within b
-    fits = map_at_budgets(fast, kind, seed, reachable, start, sigma=sigma) if reachable else {}
-    out = {}
-    for b in budgets:
-        if b in fits:
-            m = ParamMap(MAPS[learner], fast.space.obs_dim, fast.space.dim, params=fits[b][0])
-            out[b] = (m.act(obs), fits[b][1], fits[b][2])
-    return out
+    kind = MAPS[learner]
+    return {b: (ParamMap(kind, fast.space.obs_dim, fast.space.dim, params=params).act(obs), wall, used)
+            for b, (params, wall, used) in map_at_budgets(fast, kind, seed, budgets, start, sigma=sigma).items()}
 
 
 def rl_actions(task, learner: str, seed: int, budgets, learning_rate: float, obs) -> dict:
@@ -322,9 +316,7 @@ def checked(args) -> tuple[list[str], list[int], list[int]]:
                  f"1024,40960 and 0-9")
     if budgets[0] < 1:
         sys.exit(f"budget_curves: --budgets {budgets[0]}: at least 1")
-    if max(seeds) > 9:
-        sys.exit(f"budget_curves: --seeds {max(seeds)}: at most 9 (each seed's map contexts are its own block of "
-                 f"{BUDGET_BLOCK:,} in the budget study's {BUDGET_BASE:,}-{BUDGET_BASE + 10 * BUDGET_BLOCK - 1:,})")
+    check_seeds("budget_curves", seeds)
     if not 1 <= args.holdout <= max(budgets):
         sys.exit(f"budget_curves: --holdout {args.holdout}: 1 to the largest budget ({max(budgets)}), so a "
                  f"per-context search has an episode a context")
@@ -346,14 +338,9 @@ def checked(args) -> tuple[list[str], list[int], list[int]]:
 def check_map_blocks(learners, budgets, tune_budget: int, space) -> None:
     """Every map fit's contexts inside its seed's block (``benchmarks/map_budgets.py``'s), the tuning's too; refused
     in one line."""
-    from agents.context_maps import map_seed_span
-
     for learner in [x for x in learners if x in MAPS]:
         for option, budget in (("--budgets", max(budgets)), ("--tune-budget", tune_budget)):
-            first, last = map_seed_span(MAPS[learner], space.dim, space.obs_dim, 0, budget)
-            if last - first + 1 > BUDGET_BLOCK:
-                sys.exit(f"budget_curves: {option} {budget}: a {learner} fit would draw {last - first + 1} "
-                         f"contexts, past a seed's block of {BUDGET_BLOCK} (from {BUDGET_BASE})")
+            check_block("budget_curves", option, MAPS[learner], space, budget)
 
 
 def rows_from(learners, budgets, seeds, results: Results, chosen: dict) -> list[dict]:
@@ -436,7 +423,7 @@ def print_tables(rep: dict) -> None:
                    key=lambda r: -r["mean"])
     for r in board:
         wall = "-" if r["wall_s"] is None else f"{r['wall_s']:.0f} s"
-        print(f"| {r['learner']} | {100 * r['mean']:.1f} % [{100 * r['ci'][0]:.1f}, {100 * r['ci'][1]:.1f}] | "
+        print(f"| {r['learner']} | {pct_ci(r['mean'], r['ci'])} | "
               f"{100 * min(r['per_seed']):.1f}-{100 * max(r['per_seed']):.1f} % | {r['episodes']:,.0f} | {wall} |")
     base = next((r for r in board if r["learner"] == "linear-map"), None)
     if base is not None:

@@ -30,16 +30,47 @@ from rl_policies import parse_seeds
 
 BUDGET_BASE = 200_000  # the budget study's training contexts: 200,000-399,999 (seed k: 20,000 of them from here)
 BUDGET_BLOCK = 20_000
+BUDGET_SEEDS = 10  # seeds 0-9, a block each
 KINDS = ("linear", "mlp")
+
+
+def has_a_generation(kind: str, space, budget: int) -> bool:
+    """Whether ``budget`` episodes hold one CMA-ES generation of a ``kind`` map (64 contexts x its population)."""
+    from agents.context_maps import map_seed_span
+
+    first, last = map_seed_span(kind, space.dim, space.obs_dim, 0, budget)
+    return last >= first
+
+
+def check_seeds(prog: str, seeds: list[int]) -> None:
+    """Seeds 0-9 only: each draws its own block of the budget study's contexts; refused in one line."""
+    if max(seeds) > BUDGET_SEEDS - 1:
+        top = BUDGET_BASE + BUDGET_SEEDS * BUDGET_BLOCK - 1
+        sys.exit(f"{prog}: --seeds {max(seeds)}: at most {BUDGET_SEEDS - 1} (each seed's contexts are its own block "
+                 f"of {BUDGET_BLOCK:,} in the budget study's {BUDGET_BASE:,}-{top:,})")
+
+
+def check_block(prog: str, option: str, kind: str, space, budget: int) -> None:
+    """A ``kind`` fit of ``budget`` episodes must draw its contexts within a seed's block; refused in one line."""
+    from agents.context_maps import map_seed_span
+
+    first, last = map_seed_span(kind, space.dim, space.obs_dim, 0, budget)
+    if last - first + 1 > BUDGET_BLOCK:
+        sys.exit(f"{prog}: {option} {budget}: a {kind} fit would draw {last - first + 1} contexts, past a seed's "
+                 f"block of {BUDGET_BLOCK}")
 
 
 def map_at_budgets(runner, kind: str, seed: int, budgets: list[int], start,
                    sigma: float | None = None) -> dict[int, tuple[np.ndarray, float, int]]:
     """Each budget's map (its parameters), the fit's wall time up to it and the episodes it spent, from one fit to
-    the largest budget (a budget below one generation has none). ``sigma``: CMA-ES's first step (default the shipped maps')."""
+    the largest budget; a budget below one generation has none. ``sigma``: CMA-ES's first step (default the
+    shipped maps')."""
     from agents.context_maps import MAP_STEP, fit_map
 
+    budgets = [b for b in budgets if has_a_generation(kind, runner.space, b)]
     got: dict[int, tuple[np.ndarray, float, int]] = {}
+    if not budgets:
+        return got
     t0 = time.perf_counter()
     per_generation: list[int] = []
 
@@ -73,26 +104,20 @@ def main() -> None:
     except ValueError:
         sys.exit(f"map_budgets: --budgets {args.budgets!r} / --seeds {args.seeds!r}: give whole numbers, e.g. "
                  f"4096,40960 and 0-9")
-    if max(seeds) > 9:
-        sys.exit(f"map_budgets: --seeds {max(seeds)}: at most 9 (each seed's contexts are its own block of "
-                 f"{BUDGET_BLOCK:,} in the budget study's {BUDGET_BASE:,}-{BUDGET_BASE + 10 * BUDGET_BLOCK - 1:,})")
+    check_seeds("map_budgets", seeds)
     if args.holdout < 1 or args.holdout_seed < 0:
         sys.exit(f"map_budgets: --holdout {args.holdout} / --holdout-seed {args.holdout_seed}: at least 1 and 0")
     from aero_env.config import load_config
-    from agents.context_maps import ParamMap, map_seed_span
+    from agents.context_maps import ParamMap
     from agents.episode_runner import EpisodeRunner, draws_for_seeds
 
     task = TASKS[args.task]
     fast = EpisodeRunner(load_config(task.config, {"sim.fidelity": "reduced"}))
     for kind in kinds:  # every fit's contexts inside its seed's block
-        first, last = map_seed_span(kind, fast.space.dim, fast.space.obs_dim, 0, budgets[0])
-        if last < first:
+        if not has_a_generation(kind, fast.space, budgets[0]):
             sys.exit(f"map_budgets: --budgets {budgets[0]}: too few for one CMA-ES generation of a {kind} map (64 "
                      f"contexts x its population)")
-        first, last = map_seed_span(kind, fast.space.dim, fast.space.obs_dim, 0, budgets[-1])
-        if last - first + 1 > BUDGET_BLOCK:
-            sys.exit(f"map_budgets: --budgets {budgets[-1]}: a {kind} fit would draw {last - first + 1} contexts, "
-                     f"past a seed's block of {BUDGET_BLOCK}")
+        check_block("map_budgets", "--budgets", kind, fast.space, budgets[-1])
     runner = EpisodeRunner(load_config(task.config))
     rows = []
     try:

@@ -1,3 +1,5 @@
+import importlib
+import sys
 from pathlib import Path
 
 import pytest
@@ -13,6 +15,15 @@ from aero_env.physics import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "configs" / "paper.yaml"
+
+
+def benchmark_module(name: str):
+    """A script of benchmarks/ as a module (it imports its sibling scripts by name, as when it runs there)."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    try:
+        return importlib.import_module(name)
+    finally:
+        sys.path.remove(str(ROOT / "benchmarks"))
 # The default pymunk world at twice its step: the cheapest run the prototype survives (the former mbd-fast rung,
 # which left the ladder: docs/fidelity.md). Tests that need many cheap pymunk runs, not the default's accuracy, use it.
 COARSE = {"sim.fidelity": "mbd", "sim.dt": 0.001}

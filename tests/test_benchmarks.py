@@ -6,14 +6,16 @@ from __future__ import annotations
 import importlib.util
 import json
 import subprocess
-import tempfile
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from aero_env.intervals import wilson_interval
+
+from .conftest import benchmark_module
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = str(ROOT / "configs" / "paper.yaml")
@@ -263,11 +265,7 @@ def test_step_agreement_near_a_design_runs_the_designs_bench_accuracy_draws_ther
 
 
 def test_the_knife_edge_nudge_moves_every_action_component_by_one_float32_ulp():
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    try:
-        from rl_vs_tuning import one_ulp_nudge
-    finally:
-        sys.path.remove(str(ROOT / "benchmarks"))
+    one_ulp_nudge = benchmark_module("rl_vs_tuning").one_ulp_nudge
     actions = np.array([[0.5, -0.25, 0.0, 1.0 / 3.0], [-1.0, 0.7, 1e-9, -0.1]])
     up = np.array([[True, False, True, False], [True, True, False, True]])
     nudged = one_ulp_nudge(actions, up)
@@ -286,11 +284,7 @@ def test_one_map_fit_gives_every_smaller_budgets_map_exactly():
     from agents.context_maps import fit_map
     from agents.episode_runner import EpisodeRunner
 
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    try:
-        from map_budgets import map_at_budgets
-    finally:
-        sys.path.remove(str(ROOT / "benchmarks"))
+    map_at_budgets = benchmark_module("map_budgets").map_at_budgets
     runner = EpisodeRunner(load_config(ROOT / "configs" / "contexts.yaml", {"sim.fidelity": "reduced"}))
     start = np.zeros(runner.space.dim)
     got = map_at_budgets(runner, "linear", 3, [900, 1664, 2000, 3000], start)  # 832 episodes a generation
@@ -304,15 +298,6 @@ def test_one_map_fit_gives_every_smaller_budgets_map_exactly():
     assert "too few for one CMA-ES generation" in _bench("map_budgets.py", "--budgets", "100", expect=1)
 
 
-def _budget_curves():
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    try:
-        import budget_curves
-    finally:
-        sys.path.remove(str(ROOT / "benchmarks"))
-    return budget_curves
-
-
 def test_one_search_to_the_largest_budget_gives_every_smaller_budgets_outcome():
     """budget_curves searches each context once, to the largest budget: a context counts as solved at budget b
     exactly when a search given b episodes a context solves it (CMA-ES), and a random search's count is the one a
@@ -321,7 +306,7 @@ def test_one_search_to_the_largest_budget_gives_every_smaller_budgets_outcome():
     from agents.context_maps import search_contexts
     from agents.episode_runner import EpisodeRunner, draws_for_seeds
 
-    bc = _budget_curves()
+    bc = benchmark_module("budget_curves")
     runner = EpisodeRunner(load_config(ROOT / "configs" / "contexts_hard.yaml", {"sim.fidelity": "reduced"}))
     draws = draws_for_seeds(runner.space, range(700_000, 700_030))
     start = np.zeros(runner.space.dim)
@@ -355,7 +340,7 @@ def test_one_training_run_gives_every_smaller_budgets_policy():
 
     from agents.rl import TrainSettings, load_run, policy_actions, train
 
-    bc = _budget_curves()
+    bc = benchmark_module("budget_curves")
     task = bc.TASKS["hard"]
     cfg = load_config(task.config, {"sim.fidelity": "reduced"})
     runner = EpisodeRunner(cfg)

@@ -15,7 +15,7 @@ from aero_env.envs import AerialAcrobatEnv
 from aero_env.registration import ENVIRONMENTS
 from agents.rl import TrainSettings, evaluate, train
 
-from .conftest import PAPER
+from .conftest import PAPER, benchmark_module
 
 CONTEXTS = PAPER.parent / "contexts.yaml"
 SINGLE = PAPER.parent / "contexts_single.yaml"
@@ -393,11 +393,7 @@ def test_the_beyond_range_scene_is_the_makers_scene_with_the_hard_tasks_context_
     with only the contexts' ranges widened to the hard task's."""
     import dataclasses
 
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    try:
-        import beyond_range
-    finally:
-        sys.path.remove(str(ROOT / "benchmarks"))
+    beyond_range = benchmark_module("beyond_range")
     cfg, hard = load_config(CONTEXTS), load_config(HARD)
     assert beyond_range.beyond_scene() == dataclasses.replace(cfg, context=hard.context)
     assert beyond_range.beyond_scene() != cfg
