@@ -825,6 +825,23 @@ def test_sheet_md_reads_as_a_whole(sheet):
                     f" its row**: {r.traversals} of {cfg.scene.frames - 1} transfers ({r.outcome}: {r.reason}).", "",
                     "Robustness: not assessed (`--draws 0`).", ""]
     rest = lines[lines.index("", start):]
+    # the clearance section: the verdict, then a line per pair of parts that meet, their count read back
+    assert rest[:3] == ["", "## Do the parts clear each other?", ""]
+    bench = rest.index("## Bench checks") - 1
+    verdict, listed = rest[3], [ln for ln in rest[4:bench] if ln]
+    assert verdict.startswith("Each frame turned from rest to its end stop in 1 deg steps against the other frames")
+    if "**the parts clear**" not in verdict:
+        said = re.search(r"\*\*the parts collide\*\*: (\d+) pairs of parts meet, on (\d+) of "
+                         rf"{cfg.scene.frames} frames, the first at theta1 = (\d+) deg", verdict)
+        pairs, frames, first = said.groups()
+        shown = [ln for ln in listed if ln.startswith("- frame ")]
+        more = [int(m) for m in re.findall(r"^- and (\d+) more$", "\n".join(listed), re.M)]
+        assert len(shown) + sum(more) == int(pairs) and len(shown) == min(int(pairs), 8)
+        angles = [float(re.search(r"from theta1 = ([\d.]+) deg", ln).group(1)) for ln in shown]
+        assert angles == sorted(angles) and round(angles[0]) == int(first)
+        assert {int(re.match(r"- frame (\d+)'s", ln).group(1)) for ln in shown} <= set(range(cfg.scene.frames))
+        assert 1 <= int(frames) <= cfg.scene.frames
+    rest = rest[bench:]
     # held level on its skewer, the moments about it: the counterbalance's against the handrail's and n coins' at the
     # seat, and the frame's own dT
     n = (d.m3 * d.La - d.handrail_mass * d.Lb - d.dT / GRAVITY) / (COIN * d.Lb)

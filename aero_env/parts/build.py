@@ -54,6 +54,8 @@ CARD_THICKNESS = PAPER_CARD.thickness
 YEN_COIN = 1.0e-3  # kg: a one-yen coin weighs 1.00 g (the paper's robot carries four)
 YEN_COIN_THICKNESS = 1.5e-3  # m
 CLAY_STEP = 1.0e-4  # kg: modelling clay, weighed to the 0.1 g a kitchen scale reads
+CLAY_DENSITY = 1.6e3  # kg/m³: oil-based modelling clay (about 1.5-1.8 g/cm³); only its volume in 3D reads it
+YEN_COIN_RADIUS = 10.0e-3  # m: a one-yen coin is 20 mm across
 
 SKEWER_D = 2.0e-3  # m: a thin bamboo skewer for every axis, stopper and the robot's axle (a choice)
 HOLE_D = 2.4e-3  # m: a hole the skewer turns in freely (0.4 mm play; design.pivot_friction is its fit)
@@ -121,6 +123,26 @@ def handrail_card(d: Design) -> dict:
     length = d.handrail_mass / GRAMMAGE / legs
     tab = (length - RAIL_SPAN) / 2.0
     return dict(legs=legs, tab=tab, length=length, mass=d.handrail_mass)
+
+
+def notch_faces(Lb, notch_angle, notch_opening, rest_angle, back_face, front_face, clearance):
+    """The handrail L's two faces in frame-local coordinates: ``((corner, back end), (corner, front end))``,
+    each point an (x, y) pair, in whatever one length unit the arguments are in (angles in rad).
+
+    The hook's centre sits in the corner at the seat (-Lb, 0), ``clearance`` (the card's half thickness plus the
+    hook's radius) from both faces; at the rest angle the corner's bisector points along ``notch_angle`` (world),
+    the faces ``notch_opening`` apart. Each face runs from the corner along the other face's normal. The world
+    (:mod:`aero_env.physics.swing_frame`, engine units) and the solids (:mod:`aero_env.parts.solids`, SI) read
+    these; the arithmetic is what pymunk's Vec2d did there, operation for operation, so the world's faces are
+    unchanged bit for bit."""
+    a_back = notch_angle - notch_opening / 2 - rest_angle
+    a_front = notch_angle + notch_opening / 2 - rest_angle
+    nbx, nby = math.cos(a_back), math.sin(a_back)  # = Vec2d(1, 0).rotated(a) exactly (1·c - 0·s is c)
+    nfx, nfy = math.cos(a_front), math.sin(a_front)
+    k = clearance / (1.0 + (nbx * nfx + nby * nfy))
+    cx, cy = -Lb - (nbx + nfx) * k, 0.0 - (nby + nfy) * k
+    return (((cx, cy), (cx + nfx * back_face, cy + nfy * back_face)),
+            ((cx, cy), (cx + nbx * front_face, cy + nby * front_face)))
 
 
 def counterbalance_load(m3) -> dict:

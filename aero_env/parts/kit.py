@@ -259,6 +259,7 @@ SEGMENT_MAX = 170.0  # mm: a crossbeam segment fits the template's width, so it 
 CROSSBEAM_LAYERS = 3  # a stiff strip: three layers glued flat (a choice; the stand's mass is not modelled)
 UPRIGHT_WIDTH = 10.0  # mm
 SNUG_R = build.SKEWER_D * MM / 2  # the crossbeam holds each skewer snug: the frames turn on it, it does not turn
+CROSSBEAM_GAP = build.RAIL_SPAN + 20.0e-3  # m: the two crossbeams' inner faces apart, the frames between them
 
 
 def stopper_offsets(d) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -274,13 +275,13 @@ def stopper_offsets(d) -> tuple[tuple[float, float], tuple[float, float]]:
     return out[0], out[1]
 
 
-def crossbeam_segments(cfg) -> list[Piece]:
-    """The crossbeam at 1:1, along the row's incline: every frame's axis hole and both its stopper holes, the
-    rest angle and the counterbalance's side marked. A long row is cut in segments that overlap by one axis:
-    a skewer through the shared holes lines them up before they are glued."""
+def crossbeam_band(cfg) -> dict:
+    """The crossbeam's lay-out in its own coordinates (mm): u along the row's incline from frame 0's axis, v up from
+    the axes' line. ``beta`` (rad) the incline, ``step`` axis to axis, ``rest`` and ``stop`` the stopper holes' (u, v)
+    from their axis, and the band's edges about one axis: ``u_lo``, ``u_hi``, ``v_lo``, ``v_hi``, each hole ``END``
+    inside the card. The kit's segments and the 3D stand (:mod:`aero_env.parts.solids`) both read it."""
     d, s = cfg.design, cfg.scene
     beta = math.atan2(s.rise, s.pitch)
-    step = math.hypot(s.pitch, s.rise) * MM  # axis to axis along the crossbeam
     cb, sb = math.cos(beta), math.sin(beta)
 
     def along(w):  # a world offset (m) to crossbeam coordinates (mm): u along the incline, v up from it
@@ -289,8 +290,19 @@ def crossbeam_segments(cfg) -> list[Piece]:
     rest, stop = (along(w) for w in stopper_offsets(d))
     vs = [0.0, rest[1], stop[1]]
     us = [0.0, rest[0], stop[0]]
-    v_lo, v_hi = min(vs) - build.END * MM - SNUG_R, max(vs) + build.END * MM + SNUG_R
-    u_lo, u_hi = min(us) - build.END * MM - SNUG_R, max(us) + build.END * MM + SNUG_R  # about one axis
+    return dict(beta=beta, step=math.hypot(s.pitch, s.rise) * MM, rest=rest, stop=stop,
+                u_lo=min(us) - build.END * MM - SNUG_R, u_hi=max(us) + build.END * MM + SNUG_R,
+                v_lo=min(vs) - build.END * MM - SNUG_R, v_hi=max(vs) + build.END * MM + SNUG_R)
+
+
+def crossbeam_segments(cfg) -> list[Piece]:
+    """The crossbeam at 1:1, along the row's incline: every frame's axis hole and both its stopper holes, the
+    rest angle and the counterbalance's side marked. A long row is cut in segments that overlap by one axis:
+    a skewer through the shared holes lines them up before they are glued."""
+    d, s = cfg.design, cfg.scene
+    band = crossbeam_band(cfg)
+    beta, step, rest, stop = band["beta"], band["step"], band["rest"], band["stop"]
+    u_lo, u_hi, v_lo, v_hi = band["u_lo"], band["u_hi"], band["v_lo"], band["v_hi"]
     per = max(1, int((SEGMENT_MAX - (u_hi - u_lo)) // step))  # axis steps a segment spans
     starts = list(range(0, s.frames - 1, per)) or [0]
     segments = []
@@ -352,7 +364,7 @@ def uprights(cfg) -> list[Piece]:
                    f"glue it to the base.",)
         if end == "last":
             caption += (f"BASE: any stiff board {((s.frames - 1) * s.pitch + 0.12) * MM:.0f} x 60 mm, level; the two "
-                        f"crossbeams stand {build.RAIL_SPAN * MM + 20:.0f} mm apart, the frames between them.",)
+                        f"crossbeams stand {CROSSBEAM_GAP * MM:.0f} mm apart, the frames between them.",)
         out.append(Piece(f"upright under the {end} axis", f"part-upright-{end}", 2, CROSSBEAM_LAYERS,
                          length * w / MM**2, (), "scene.floor_drop", 1, (), caption,
                          (_rect(0, 0, w, length), _line(0, length - foot, w, length - foot))))  # upright

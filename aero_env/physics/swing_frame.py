@@ -24,6 +24,7 @@ import math
 
 import pymunk
 
+from ..parts.build import notch_faces
 from .engine_params import EngineParams, rigid_body
 
 HOOK = 1  # collision types
@@ -59,13 +60,10 @@ class SwingFrame:
         self.rest_angle, self.stop_angle = p.rest_angle, p.stop_angle
 
         self.hook_seat_local = pymunk.Vec2d(-p.Lb, 0.0)  # where the hook's centre sits in the corner
-        n_back = pymunk.Vec2d(1.0, 0.0).rotated(p.notch_angle - p.notch_opening / 2 - p.rest_angle)
-        n_front = pymunk.Vec2d(1.0, 0.0).rotated(p.notch_angle + p.notch_opening / 2 - p.rest_angle)
-        clearance = p.rail_radius + p.hook_radius
-        corner = self.hook_seat_local - (n_back + n_front) * (clearance / (1.0 + n_back.dot(n_front)))
-        # Each face runs from the corner along the other face's normal (the two form the notch).
-        self.faces_local = ((corner, corner + n_front * p.notch_back_face),
-                            (corner, corner + n_back * p.notch_front_face))
+        # the L's two faces, each from the corner along the other face's normal (one home: aero_env/parts/build.py)
+        faces = notch_faces(p.Lb, p.notch_angle, p.notch_opening, p.rest_angle, p.notch_back_face,
+                            p.notch_front_face, p.rail_radius + p.hook_radius)
+        self.faces_local = tuple((pymunk.Vec2d(*a), pymunk.Vec2d(*b)) for a, b in faces)
         self.rail_radius = p.rail_radius
         # each face as (start x, start y, unit direction x, y, length), for the penetration monitor and
         # the friction switch

@@ -1,16 +1,23 @@
 """``aero-env sheet``: from a config to what to cut.
 
-    aero-env sheet CONFIG --out DIR|FILE.md|FILE.svg|FILE.json [--draws N] [--seed S] [--set KEY=VALUE ...]
+    aero-env sheet CONFIG --out DIR|FILE.md|FILE.svg|FILE.json|FILE.glb [--draws N] [--seed S] [--set KEY=VALUE ...]
 
-A folder: all three, as ``DIR/sheet.md``, ``DIR/template.svg`` and ``DIR/parts.json`` (the folder is
-made if missing; an earlier sheet in it is written over, as a file would be). ``.json``: every piece
-of the kit (``aero_env/parts/kit.py``): how many to cut, its layers and card, what is added to it,
-its mass, and the model field it makes up. ``.md``: every part in mm and g (and 1-yen coins), the card pair that gives the friction, where
-the counterbalance goes, the spring as the paper measures it, whether the design completes its
-row, and its robustness: the share of hand-made builds (``aero-env robustness``'s tolerances)
-that still complete it, the bench checks, and a troubleshooting table keyed by the outcome a maker sees. ``.svg``: the template to print and cut (``template.py``): every part at 1:1 and the stand to
-scale. The output path is checked before anything is simulated; the robustness builds show their
-progress on stderr (``--no-progress``: none).
+A folder: all four, as ``DIR/sheet.md``, ``DIR/template.svg``, ``DIR/parts.json`` and ``DIR/assembly.glb``
+(the folder is made if missing; an earlier sheet in it is written over, as a file would be).
+
+- ``.json``: every piece of the kit (``aero_env/parts/kit.py``): how many to cut, its layers and card, what is
+  added to it, its mass, and the model field it makes up.
+- ``.md``: every part in mm and g (and 1-yen coins), the card pair that gives the friction, where the
+  counterbalance goes, the spring as the paper measures it, whether the design completes its row, whether its
+  parts clear each other through every frame's swing (``aero_env/parts/clearance.py``), and its robustness: the
+  share of hand-made builds (``aero-env robustness``'s tolerances) that still complete it, the bench checks, and
+  a troubleshooting table keyed by the outcome a maker sees.
+- ``.svg``: the template to print and cut (``template.py``): every part at 1:1 and the stand to scale.
+- ``.glb``: the row as 3D solids in metres (``aero_env/parts/solids.py``, ``gltf.py``), the frames at rest and
+  the robot where the world starts it.
+
+The output path is checked before anything is simulated; the robustness builds show their progress on stderr
+(``--no-progress``: none).
 """
 
 from __future__ import annotations
@@ -19,18 +26,18 @@ import time
 from pathlib import Path
 
 from ..config import Config, ConfigError
-from ..files import write_text_atomically
+from ..files import write_atomically, write_text_atomically
 from ..scene_args import add_seed
 
 DEFAULT_DRAWS = 50
 DEFAULT_SEED = 0
-FORMATS = (".md", ".svg", ".json")
+FORMATS = (".md", ".svg", ".json", ".glb")
 
 
 def register(sub, scene_command) -> None:
     sp = scene_command(sub, "sheet", "a build sheet (.md) and a 1:1 cutting template (.svg) for a design")
-    sp.add_argument("--out", required=True, metavar="DIR|FILE.md|FILE.svg|FILE.json",
-                    help="a folder for all three (sheet.md, template.svg, parts.json), or one file")
+    sp.add_argument("--out", required=True, metavar="DIR|FILE.md|FILE.svg|FILE.json|FILE.glb",
+                    help="a folder for all four (sheet.md, template.svg, parts.json, assembly.glb), or one file")
     sp.add_argument("--draws", type=int, default=DEFAULT_DRAWS,
                     help=f"hand-made builds drawn for the robustness line of a .md sheet; 0 skips it "
                          f"(default {DEFAULT_DRAWS})")
@@ -42,7 +49,7 @@ def register(sub, scene_command) -> None:
     sp.set_defaults(func=cmd_sheet)
 
 
-SHEET_NAME, TEMPLATE_NAME, PARTS_NAME = "sheet.md", "template.svg", "parts.json"
+SHEET_NAME, TEMPLATE_NAME, PARTS_NAME, ASSEMBLY_NAME = "sheet.md", "template.svg", "parts.json", "assembly.glb"
 
 
 def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str | None = None,
@@ -60,6 +67,7 @@ def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str
     robust = robustness_line(cfg, config_name, draws, seed, progress, compare)
     return "\n".join([f"# Build sheet: {config_name}", "", verdict, "", robust, "",
                       *rows, "",
+                      "## Do the parts clear each other?", "", *clearance_lines(cfg), "",
                       "## Bench checks", "",
                       "- **The spring**: the bench check in the table above (a load at the hook tip, the arm's turn).",
                       f"- **The frame's balance**: {frame_balance(cfg)}.", "",
@@ -101,6 +109,43 @@ def robustness_line(cfg: Config, config_name: str, draws: int, seed: int, progre
     return line + f" The same {draws} builds of {name}: **{j} of {draws}** ({100 * j / draws:.0f} %)."
 
 
+CONTACTS_SHOWN = 8  # the sheet lists the first meetings; aero-env sheet --out FILE.glb writes the model to look at
+
+
+def clearance_lines(cfg: Config) -> list[str]:
+    """The static sweep's verdict in the sheet: each frame turned from rest to its end stop against the other
+    frames (at rest and at their end stops) and the stand."""
+    from ..parts.clearance import TOUCH, static_sweep
+    from ..parts.solids import assembly
+
+    asm = assembly(cfg)
+    contacts = static_sweep(asm)
+    head = (f"Each frame turned from rest to its end stop in 1 deg steps against the other frames (at rest and at "
+            f"their end stops) and the stand, as 3D solids in the kit's layout ({asm.layout.name}; "
+            f"`assembly.glb` shows it):")
+    if not contacts:
+        return [head + f" **the parts clear** (no two share more than {TOUCH * 1e9:.0f} mm³)."]
+    frames = sorted({c.frame for c in contacts})
+    first = min(contacts, key=lambda c: c.angle_deg)
+    lines = [head + f" **the parts collide**: {len(contacts)} pairs of parts meet, on {len(frames)} of "
+             f"{len(asm.frames)} frames, the first at theta1 = {first.angle_deg:.0f} deg "
+             f"(this toy cannot be built as drawn).", ""]
+    lines += [f"- {c.line()}" for c in sorted(contacts, key=lambda c: (c.angle_deg, c.frame))[:CONTACTS_SHOWN]]
+    if len(contacts) > CONTACTS_SHOWN:
+        lines.append(f"- and {len(contacts) - CONTACTS_SHOWN} more")
+    return lines
+
+
+def assembly_bytes(cfg: Config) -> bytes:
+    """The row as ``assembly.glb``: the frames at rest, the robot where the world starts it."""
+    from ..parts.gltf import glb
+    from ..parts.solids import assembly
+    from ..physics.world import World
+
+    frames, axle, torso, arm = World(cfg).pose()
+    return glb(assembly(cfg), frames, (axle, torso, arm))
+
+
 def parts_text(cfg: Config, config_name: str) -> str:
     import json
 
@@ -140,17 +185,23 @@ def cmd_sheet(args) -> int:
     # every text is made before the first file is written: a run stopped in the robustness builds (Ctrl-C, a
     # failure) leaves no template without its sheet
     if folder:
-        files = {out / PARTS_NAME: parts_text(cfg, args.config), out / TEMPLATE_NAME: svg(cfg),
+        files = {out / ASSEMBLY_NAME: assembly_bytes(cfg), out / PARTS_NAME: parts_text(cfg, args.config),
+                 out / TEMPLATE_NAME: svg(cfg),
                  out / SHEET_NAME: markdown(cfg, args.config, args.draws, args.seed, TEMPLATE_NAME, progress, compare)}
         out.mkdir(parents=True, exist_ok=True)
+    elif out.suffix == ".glb":
+        files = {out: assembly_bytes(cfg)}
     elif out.suffix == ".svg":
         files = {out: svg(cfg)}
     elif out.suffix == ".json":
         files = {out: parts_text(cfg, args.config)}
     else:
         files = {out: markdown(cfg, args.config, args.draws, args.seed, progress=progress, compare=compare)}
-    for path, text in files.items():
-        write_text_atomically(path, text, "kit file")
+    for path, content in files.items():
+        if isinstance(content, bytes):
+            write_atomically(path, lambda f, content=content: f.write(content), "kit file")
+        else:
+            write_text_atomically(path, content, "kit file")
     written = ", ".join(str(path) for path in reversed(files))
     print(f"wrote {written} in {time.perf_counter() - t0:.1f} s")
     return 0

@@ -1,0 +1,105 @@
+"""Do the toy's parts clear each other? The static sweep over :mod:`aero_env.parts.solids`.
+
+Each frame is turned from its rest angle to its end stop in steps; at every step each of its parts is
+intersected (manifold3d) with every part of each other frame, that frame at rest and at its end stop, and with
+every part of the stand. Two parts *meet* where their common volume passes ``TOUCH`` (1 mm³): parts that touch
+(a frame on its stopper skewer) share a face or a polygon's corner, no volume. A cheap bound comes first: a
+part is only intersected with a part whose box it can reach (its farthest corner from the axis, swept round).
+
+A meeting is a :class:`Contact`: the frame, the part, the other part and its pose, the first angle at which
+they meet and the largest common volume over the sweep.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .solids import Assembly, frame_pose, placed
+
+TOUCH = 1e-9  # m³: 1 mm³, the most two parts may share and still clear (issue 49)
+STEP_DEG = 1.0  # the sweep's step in theta1
+
+
+@dataclass(frozen=True)
+class Contact:
+    """Frame ``frame``'s ``part`` meets ``other`` (``where``: "frame 4 at rest", "frame 4 at its end stop",
+    "the stand") from theta1 = ``angle_deg`` on; ``volume`` (m³) is the most they share over the sweep."""
+    frame: int
+    part: str
+    other: str
+    where: str
+    angle_deg: float
+    volume: float
+
+    def line(self) -> str:
+        other = f"the stand's {self.other}" if self.where == "the stand" else f"the {self.other} of {self.where}"
+        return (f"frame {self.frame}'s {self.part} meets {other} from theta1 = {self.angle_deg:.1f} deg "
+                f"({self.volume * 1e9:.0f} mm³ shared at most)")
+
+
+def _box(solid) -> tuple[np.ndarray, np.ndarray]:
+    b = solid.bounding_box()  # (xmin, ymin, zmin, xmax, ymax, zmax)
+    return np.array(b[:3]), np.array(b[3:])
+
+
+def _reach(solid) -> tuple[float, float, float]:
+    """(farthest xy distance from the group's origin, zmin, zmax): the cylinder a part sweeps turning about z."""
+    lo, hi = _box(solid)
+    r = max(math.hypot(x, y) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]))
+    return r, lo[2], hi[2]
+
+
+def _overlaps(lo1, hi1, lo2, hi2) -> bool:
+    return bool(np.all(lo1 < hi2) and np.all(lo2 < hi1))
+
+
+def angles(asm: Assembly, step_deg: float = STEP_DEG) -> np.ndarray:
+    """The sweep's frame angles (rad): rest to end stop, both ends included, steps of at most ``step_deg``."""
+    n = max(1, math.ceil(math.degrees(asm.stop - asm.rest) / step_deg - 1e-9))
+    return np.linspace(asm.rest, asm.stop, n + 1)
+
+
+def obstacles(asm: Assembly, i: int) -> list[tuple[str, str, object]]:
+    """What frame ``i`` must clear: (where, part name, solid in the world) for every other frame at rest and at its
+    end stop, and every part of the stand."""
+    out = []
+    for j, parts in enumerate(asm.frames):
+        if j == i:
+            continue
+        for where, theta in ((f"frame {j} at rest", asm.rest), (f"frame {j} at its end stop", asm.stop)):
+            pose = frame_pose(asm.axes[j], theta)
+            out += [(where, p.name, placed(p.solid, pose)) for p in parts]
+    return out + [("the stand", p.name, p.solid) for p in asm.stand]
+
+
+def static_sweep(asm: Assembly, step_deg: float = STEP_DEG, frames=None) -> list[Contact]:
+    """Every meeting of a turning frame's part with another frame (at rest, at its end stop) or the stand, one
+    :class:`Contact` per pair of parts; empty when the row clears. ``frames``: which frames turn (default all)."""
+    thetas = angles(asm, step_deg)
+    found: dict[tuple, Contact] = {}
+    for i in (range(len(asm.frames)) if frames is None else frames):
+        ax, ay = asm.axes[i]
+        others = [(where, name, solid, *_box(solid)) for where, name, solid in obstacles(asm, i)]
+        for part in asm.frames[i]:
+            r, z0, z1 = _reach(part.solid)
+            reach_lo, reach_hi = np.array([ax - r, ay - r, z0]), np.array([ax + r, ay + r, z1])
+            near = [o for o in others if _overlaps(reach_lo, reach_hi, o[3], o[4])]
+            if not near:
+                continue
+            for theta in thetas:
+                moved = placed(part.solid, frame_pose((ax, ay), theta))
+                lo, hi = _box(moved)
+                for where, name, solid, olo, ohi in near:
+                    if not _overlaps(lo, hi, olo, ohi):
+                        continue
+                    volume = (moved ^ solid).volume()
+                    if volume <= TOUCH:
+                        continue
+                    key = (i, part.name, where, name)
+                    seen = found.get(key)
+                    found[key] = Contact(i, part.name, name, where, seen.angle_deg if seen else math.degrees(theta),
+                                         max(volume, seen.volume if seen else 0.0))
+    return sorted(found.values(), key=lambda c: (c.frame, c.angle_deg, c.part, c.where, c.other))

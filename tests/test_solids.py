@@ -1,0 +1,205 @@
+"""The toy as 3D solids (aero_env/parts/solids.py), their clearance sweep (clearance.py) and ``assembly.glb``.
+
+The .glb is read back here by hand (the binary glTF container, its JSON and its buffers), not through the library
+that wrote it; the expected geometry comes from the config's numbers and plane geometry written out here."""
+
+import json
+import math
+import struct
+
+import numpy as np
+import pytest
+
+from aero_env.cli import main
+from aero_env.config import load_config
+from aero_env.parts.clearance import static_sweep
+from aero_env.parts.solids import assembly
+
+from .conftest import PAPER
+
+CARD_T = 0.4e-3  # m, the paper's card (Sec. 6)
+GRAMMAGE = 0.310  # kg/m²
+END = 4e-3  # m of card past the farthest mark (docs/make-your-own.md)
+
+
+# ---- reading a .glb back by hand ----
+def read_glb(data: bytes) -> tuple[dict, bytes]:
+    magic, version, length = struct.unpack("<4sII", data[:12])
+    assert magic == b"glTF" and version == 2 and length == len(data)
+    json_len, kind = struct.unpack("<I4s", data[12:20])
+    assert kind == b"JSON"
+    gltf = json.loads(data[20:20 + json_len])
+    at = 20 + json_len
+    bin_len, kind = struct.unpack("<I4s", data[at:at + 8])
+    assert kind == b"BIN\x00"
+    return gltf, data[at + 8:at + 8 + bin_len]
+
+
+def accessor(gltf: dict, binary: bytes, i: int) -> np.ndarray:
+    a = gltf["accessors"][i]
+    view = gltf["bufferViews"][a["bufferView"]]
+    dtype = {5126: "<f4", 5125: "<u4", 5123: "<u2", 5121: "u1"}[a["componentType"]]
+    width = {"SCALAR": 1, "VEC3": 3}[a["type"]]
+    start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+    return np.frombuffer(binary, dtype, a["count"] * width, start).reshape(a["count"], width)
+
+
+def world_nodes(gltf: dict) -> dict[str, tuple[np.ndarray, dict]]:
+    """Every node by name: (its transform to the world, the node)."""
+    out = {}
+
+    def walk(i: int, parent: np.ndarray) -> None:
+        node = gltf["nodes"][i]
+        local = np.array(node.get("matrix", np.eye(4).ravel()), dtype=float).reshape(4, 4).T  # column-major
+        assert "rotation" not in node and "translation" not in node  # the writer uses matrices only
+        out[node["name"]] = (parent @ local, node)
+        for c in node.get("children", []):
+            walk(c, parent @ local)
+
+    for root in gltf["scenes"][gltf.get("scene", 0)]["nodes"]:
+        walk(root, np.eye(4))
+    return out
+
+
+def mesh_of(gltf: dict, binary: bytes, node: dict) -> tuple[np.ndarray, np.ndarray]:
+    (prim,) = gltf["meshes"][node["mesh"]]["primitives"]
+    assert prim.get("mode", 4) == 4  # triangles
+    return (accessor(gltf, binary, prim["attributes"]["POSITION"]).astype(float),
+            accessor(gltf, binary, prim["indices"]).reshape(-1, 3))
+
+
+def closed_volume(vertices: np.ndarray, triangles: np.ndarray) -> float:
+    """The volume a triangle mesh encloses, after checking it is closed and consistently oriented: every directed
+    edge appears once and its reverse once."""
+    edges = {}
+    for tri in triangles:
+        for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])):
+            edges[(a, b)] = edges.get((a, b), 0) + 1
+    assert all(n == 1 and edges.get((b, a)) == 1 for (a, b), n in edges.items()), "not a closed, oriented surface"
+    v = vertices[triangles]
+    return float(np.einsum("ij,ij->i", v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6.0)
+
+
+def turn(angle: float, x: float, y: float) -> tuple[float, float]:
+    c, s = math.cos(angle), math.sin(angle)
+    return c * x - s * y, s * x + c * y
+
+
+# ---- the model the sheet writes ----
+@pytest.fixture(scope="module")
+def glb(tmp_path_factory):
+    out = tmp_path_factory.mktemp("glb") / "assembly.glb"
+    assert main(["sheet", str(PAPER), "--out", str(out), "--draws", "0"]) == 0
+    return read_glb(out.read_bytes())
+
+
+def test_the_glb_has_a_node_per_frame_on_its_axis_turning_about_local_z(glb, paper_cfg):
+    gltf, binary = glb
+    nodes = world_nodes(gltf)
+    d, s = paper_cfg.design, paper_cfg.scene
+    roots = {gltf["nodes"][i]["name"] for i in gltf["scenes"][0]["nodes"]}
+    assert roots == {f"frame-{i}" for i in range(s.frames)} | {"robot", "stand"}
+    rest = math.radians(d.rest_angle_deg)
+    for i in range(s.frames):
+        pose, _ = nodes[f"frame-{i}"]
+        np.testing.assert_allclose(pose[:3, 3], [i * s.pitch, i * s.rise, 0.0], atol=1e-12)  # origin on the axis
+        np.testing.assert_allclose(pose[:3, 2], [0.0, 0.0, 1.0], atol=1e-12)  # local z: the axis
+        np.testing.assert_allclose(pose[:3, 0], [math.cos(rest), math.sin(rest), 0.0], atol=1e-12)  # at rest
+        # the side cards run END past the farther of the seat and the counterbalance, either way along local x
+        v, _ = mesh_of(gltf, binary, nodes[f"frame-{i}/side-card-near"][1])
+        half = max(d.La, d.Lb) + END
+        assert v[:, 0].min() == pytest.approx(-half, abs=1e-7) and v[:, 0].max() == pytest.approx(half, abs=1e-7)
+        # the counterbalance's coins sit on (La, h); a positive turn is the world's: rest -> end stop
+        v, _ = mesh_of(gltf, binary, nodes[f"frame-{i}/counterbalance-coins-7"][1])
+        centre = (v.min(axis=0) + v.max(axis=0)) / 2
+        assert centre[:2] == pytest.approx([d.La, d.h], abs=1e-6)
+        clay, _ = mesh_of(gltf, binary, nodes[f"frame-{i}/counterbalance-clay-0.2-g"][1])
+        assert v[:, 2].min() == pytest.approx(-clay[:, 2].max(), abs=1e-7)  # coins and clay centred between the cards
+        world = pose @ np.array([*centre[:2], 0.0, 1.0])
+        expect = turn(rest, d.La, d.h)
+        assert world[:2] == pytest.approx([i * s.pitch + expect[0], i * s.rise + expect[1]], abs=1e-6)
+
+
+def test_every_mesh_in_the_glb_is_closed_and_weighs_what_its_part_does(glb, paper_cfg):
+    gltf, binary = glb
+    d = paper_cfg.design
+    volumes = {}
+    for name, (_, node) in world_nodes(gltf).items():
+        if "mesh" in node:
+            volumes[name] = closed_volume(*mesh_of(gltf, binary, node))
+            assert volumes[name] > 0, name
+    # a side card is m1/2 of the paper's card: its volume at the card's density (grammage / thickness)
+    assert volumes["frame-0/side-card-near"] * GRAMMAGE / CARD_T == pytest.approx(d.m1 / 2, rel=2e-3)
+    # seven one-yen coins, 20 mm across and 1.5 mm thick, as a 32-sided prism: (32/2)·sin(2π/32)·r² per 1.5 mm
+    prism = 16 * math.sin(2 * math.pi / 32) * 0.01**2
+    assert volumes["frame-0/counterbalance-coins-7"] == pytest.approx(7 * 1.5e-3 * prism, rel=1e-5)
+    # the handrail: its two faces, each its card's thickness, across the 30 mm between the side cards
+    legs = d.notch_back_face + d.notch_front_face
+    assert volumes["frame-0/handrail"] == pytest.approx(legs * d.handrail_thickness * 0.030, rel=0.03)
+
+
+def test_the_robot_hangs_its_hook_on_the_first_handrail(glb, paper_cfg):
+    gltf, binary = glb
+    nodes = world_nodes(gltf)
+    d = paper_cfg.design
+    pose, node = nodes["robot/arm/arm"]
+    v, _ = mesh_of(gltf, binary, node)
+    # the arm: a laminate at most 26 mm wide, END behind the axle to the hook and a 3 mm lip; its lip folded at
+    # the tip, as thick as the arm, its middle on the tip
+    layers = math.ceil(d.arm_mass / GRAMMAGE / ((END + d.arm_length + 3e-3) * 0.026))
+    assert v[:, 0].max() == pytest.approx(d.arm_length + layers * CARD_T / 2, abs=1e-7)
+    hook = pose @ np.array([d.arm_length, 0.0, 0.0, 1.0])
+    seat = turn(math.radians(d.rest_angle_deg), -d.Lb, 0.0)  # frame 0's seat, its axis at the origin
+    assert math.dist(hook[:2], seat) < 1e-4
+
+
+# ---- clearance ----
+def rectangle(cx, cy, angle, half_length, half_depth):
+    u, w = (math.cos(angle), math.sin(angle)), (-math.sin(angle), math.cos(angle))
+    return [(cx + a * half_length * u[0] + b * half_depth * w[0], cy + a * half_length * u[1] + b * half_depth * w[1])
+            for a, b in ((1, 1), (-1, 1), (-1, -1), (1, -1))]
+
+
+def rectangles_overlap(p, q) -> bool:
+    """Separating axes: two rectangles overlap unless one of their four edge normals separates them."""
+    for poly in (p, q):
+        for k in range(4):
+            (x0, y0), (x1, y1) = poly[k], poly[(k + 1) % 4]
+            n = (y0 - y1, x1 - x0)
+            a = [n[0] * x + n[1] * y for x, y in p]
+            b = [n[0] * x + n[1] * y for x, y in q]
+            if max(a) <= min(b) or max(b) <= min(a):
+                return False
+    return True
+
+
+def test_todays_layout_collides_where_plane_geometry_says(paper_cfg):
+    """Every frame alike, its cards in the same planes (the kit before issue 49): turning frame 3 meets frame 4's
+    card at rest from the angle at which the two rectangles first overlap in the plane."""
+    d, s = paper_cfg.design, paper_cfg.scene
+    card_area = d.m1 / 2 / GRAMMAGE
+    half = max(d.La, d.Lb) + END
+    layers = math.ceil(card_area / (2 * half * 0.020))  # at most 20 mm deep, the kit says
+    depth = (card_area / layers + math.pi * 1.2e-3**2) / (2 * half)
+    rest, stop = math.radians(d.rest_angle_deg), math.radians(d.stop_angle_deg)
+    still = rectangle(4 * s.pitch, 4 * s.rise, rest, half, depth / 2)
+    onset = next(a for a in np.arange(d.rest_angle_deg, d.stop_angle_deg, 0.01)
+                 if rectangles_overlap(rectangle(3 * s.pitch, 3 * s.rise, math.radians(a), half, depth / 2), still))
+    asm = assembly(paper_cfg)
+    contacts = static_sweep(asm, frames=[3])
+    hit = [c for c in contacts if (c.part, c.other, c.where) == ("side card (near)", "side card (near)",
+                                                                 "frame 4 at rest")]
+    assert len(hit) == 1
+    # the sweep steps whole degrees from the rest angle and counts a meeting from 1 mm³ shared
+    assert onset <= hit[0].angle_deg <= onset + 2.0, (onset, hit[0])
+    assert any(c.where == "frame 2 at its end stop" for c in contacts)
+    assert not rectangles_overlap(rectangle(3 * s.pitch, 3 * s.rise, stop, half, depth / 2),
+                                  rectangle(5 * s.pitch, 5 * s.rise, stop, half, depth / 2))  # two apart: clear
+    assert not any(c.where.startswith(("frame 1 ", "frame 5 ")) for c in contacts)
+
+
+def test_frames_far_apart_clear_and_touch_only_their_own_stoppers():
+    """At a 200 mm pitch nothing of one frame can reach another or another's skewers; each frame turns from its
+    rest stopper to its end stopper, touching both (they hold it there) and sharing no volume with either."""
+    cfg = load_config(PAPER, overrides={"scene.pitch": 0.2, "scene.frames": 3})
+    assert static_sweep(assembly(cfg)) == []
