@@ -825,6 +825,22 @@ def test_sheet_md_reads_as_a_whole(sheet):
                     f" its row**: {r.traversals} of {cfg.scene.frames - 1} transfers ({r.outcome}: {r.reason}).", "",
                     "Robustness: not assessed (`--draws 0`).", ""]
     rest = lines[lines.index("", start):]
+    # what to buy: the coins and the clay worked out from m3 and the torso's coins, the skewers by count
+    assert rest[:3] == ["", "## What to buy", ""]
+    buy = rest[3:rest.index("", 3)]
+    assert [ln.split(":")[0] for ln in buy] == ["- Card", "- One-yen coins (1.00 g, 20 mm across)", "- Modelling clay",
+                                                "- Bamboo skewers, 2 mm across", "- Glue", "- Base", "- Tools"]
+    coins = math.floor(d.m3 / COIN + 1e-9)
+    clay = d.m3 - coins * COIN
+    robot = d.coin_mass / COIN
+    frames = cfg.scene.frames
+    if abs(robot - round(robot)) < 1e-6:
+        assert buy[1].endswith(f": {frames * coins + round(robot)} ({coins} per counterbalance x {frames} frames, "
+                               f"{round(robot)} on the robot's torso).")
+    assert buy[2].startswith(f"- Modelling clay: {frames * clay * 1e3:.1f} g" if clay > 1e-9 else
+                             "- Modelling clay: none")
+    assert f": {frames} x " in buy[3] and f"(rotation axis), {2 * frames} x " in buy[3]
+    rest = rest[3 + len(buy):]
     # the clearance section: the verdict, then a line per pair of parts that meet, their count read back
     assert rest[:3] == ["", "## Do the parts clear each other?", ""]
     bench = rest.index("## Bench checks") - 1

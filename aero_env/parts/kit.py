@@ -49,6 +49,11 @@ class Piece:
         object.__setattr__(self, "added", tuple((w, float(kg)) for w, kg in self.added))
 
     @property
+    def cuts(self) -> int:
+        """Copies to cut from card: every layer of every one of the kit's ``count`` (none for coins and clay)."""
+        return self.count * self.layers if self.shapes else 0
+
+    @property
     def mass_kg(self) -> float:
         return self.card_area_m2 * self.layers * self.grammage + sum(kg for _, kg in self.added)
 
@@ -57,6 +62,24 @@ class Piece:
                     grammage_kg_m2=self.grammage, card_area_m2=self.card_area_m2,
                     added=[dict(what=w, mass_kg=kg) for w, kg in self.added], mass_kg=self.mass_kg,
                     sets=self.sets, per_unit=self.per_unit, part_of=list(self.part_of))
+
+
+def shapes_extent(shapes) -> tuple[float, float, float, float]:
+    """(x0, y0, x1, y1): the box round a piece's shapes, in its own mm (y down)."""
+    xs, ys = [], []
+    for s in shapes:
+        if s.tag == "rect":
+            x, y, w, h = s.xy
+            xs += [x, x + w]
+            ys += [y, y + h]
+        elif s.tag == "circle":
+            x, y, r = s.xy
+            xs += [x - r, x + r]
+            ys += [y - r, y + r]
+        else:
+            xs += list(s.xy[0::2])
+            ys += list(s.xy[1::2])
+    return min(xs), min(ys), max(xs), max(ys)
 
 
 def _rect(x, y, w, h, kind="cut") -> Shape:
@@ -260,6 +283,18 @@ CROSSBEAM_LAYERS = 3  # a stiff strip: three layers glued flat (a choice; the st
 UPRIGHT_WIDTH = 10.0  # mm
 SNUG_R = build.SKEWER_D * MM / 2  # the crossbeam holds each skewer snug: the frames turn on it, it does not turn
 CROSSBEAM_GAP = build.RAIL_SPAN + 20.0e-3  # m: the two crossbeams' inner faces apart, the frames between them
+SKEWER_PROUD = 2.0e-3  # m: a skewer stands this far out of what holds it at each end, to grip and push it back out
+
+
+def skewer_lengths(d) -> dict[str, float]:
+    """Each skewer piece's length (m): an ``axis`` or a ``stopper`` spans the stand from one crossbeam's outer face
+    to the other's; the robot's ``axle`` runs through the torso and across the arm's width. Each stands
+    ``SKEWER_PROUD`` out at both ends. The bill of materials and the 3D stand read these."""
+    beam = CROSSBEAM_LAYERS * build.CARD_THICKNESS
+    torso = float(build.torso_plate(d, d.torso_length)["layers"]) * build.CARD_THICKNESS
+    arm = float(build.arm_plate(d)["width"])
+    across = CROSSBEAM_GAP + 2 * beam + 2 * SKEWER_PROUD
+    return dict(axis=across, stopper=across, axle=arm + torso + 2 * SKEWER_PROUD)
 
 
 def stopper_offsets(d) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -338,6 +373,12 @@ def crossbeam_segments(cfg) -> list[Piece]:
     return segments
 
 
+def base_board(cfg) -> tuple[float, float]:
+    """(length, width) in m of the board the stand stands on: the row's length and 60 mm each way past the end
+    axes; 60 mm across, wider than the crossbeams' span."""
+    return (cfg.scene.frames - 1) * cfg.scene.pitch + 0.12, 0.06
+
+
 def uprights(cfg) -> list[Piece]:
     """The four legs that hold the crossbeams: the first axis floor_drop above a level floor, the last one the row's
     rise higher (the world's floor follows the row; a table does not, and only a fall reaches it)."""
@@ -363,7 +404,8 @@ def uprights(cfg) -> list[Piece]:
                    f"{w:.0f} mm: frame {frame}'s axis {height:.1f} mm above the base; fold the {foot:.0f} mm foot and "
                    f"glue it to the base.",)
         if end == "last":
-            caption += (f"BASE: any stiff board {((s.frames - 1) * s.pitch + 0.12) * MM:.0f} x 60 mm, level; the two "
+            base = base_board(cfg)
+            caption += (f"BASE: any stiff board {base[0] * MM:.0f} x {base[1] * MM:.0f} mm, level; the two "
                         f"crossbeams stand {CROSSBEAM_GAP * MM:.0f} mm apart, the frames between them.",)
         out.append(Piece(f"upright under the {end} axis", f"part-upright-{end}", 2, CROSSBEAM_LAYERS,
                          length * w / MM**2, (), "scene.floor_drop", 1, (), caption,

@@ -34,7 +34,7 @@ import manifold3d as m3
 import numpy as np
 
 from . import build
-from .kit import CROSSBEAM_GAP, CROSSBEAM_LAYERS, UPRIGHT_WIDTH, crossbeam_band, stopper_offsets
+from .kit import CROSSBEAM_GAP, CROSSBEAM_LAYERS, UPRIGHT_WIDTH, crossbeam_band, skewer_lengths, stopper_offsets
 
 MM = 1e-3  # m per mm: the kit's crossbeam lay-out is in mm
 SEGMENTS = 32  # a round part's sides: a skewer, a coin (the polygon sits inside the circle)
@@ -154,13 +154,16 @@ def stand_parts(cfg, layout: Layout) -> list[Part3D]:
         beam = box(band["u_lo"] * MM, band["u_lo"] * MM + beam_length, band["v_lo"] * MM, band["v_hi"] * MM, z0, z1)
         out.append(Part3D(f"crossbeam ({side})", beam.rotate((0.0, 0.0, math.degrees(band["beta"])))))
     rest, stop = stopper_offsets(d)
+    lengths = skewer_lengths(d)
+    r = build.SKEWER_D / 2
     for i in range(s.frames):
         ax, ay = i * s.pitch, i * s.rise
-        out.append(Part3D(f"axis skewer {i}", rod(ax, ay, build.SKEWER_D / 2, -z_out, z_out)))
+        out.append(Part3D(f"axis skewer {i}", rod(ax, ay, r, -lengths["axis"] / 2, lengths["axis"] / 2)))
         if layout.stoppers != "through":
             raise ValueError(f"layout.stoppers {layout.stoppers!r}: only 'through' is built")
         for what, (ox, oy) in (("rest", rest), ("end", stop)):
-            out.append(Part3D(f"{what} stopper skewer {i}", rod(ax + ox, ay + oy, build.SKEWER_D / 2, -z_out, z_out)))
+            half = lengths["stopper"] / 2
+            out.append(Part3D(f"{what} stopper skewer {i}", rod(ax + ox, ay + oy, r, -half, half)))
     floor = -s.floor_drop  # the base's top, under frame 0's axis
     w = UPRIGHT_WIDTH * MM
     for i in (0, s.frames - 1):
@@ -180,13 +183,12 @@ def torso_parts(d) -> list[Part3D]:
     torso_length = float(d.torso_length)
     plate = build.torso_plate(d, torso_length)
     w, t = float(plate["width"]), float(plate["layers"]) * build.CARD_THICKNESS
-    arm = build.arm_plate(d)
-    reach = float(arm["width"]) / 2 + t  # the axle runs through the torso and across the arm's width
+    axle = skewer_lengths(d)["axle"]  # through the torso and across the arm's width, centred on the plane
     card = box(-w / 2, w / 2, -torso_length, build.END, -t / 2, t / 2) - rod(0.0, 0.0, build.HOLE_D / 2, -t, t)
     coins = d.coin_mass / build.YEN_COIN * build.YEN_COIN_THICKNESS
     return [Part3D("torso", card),
             Part3D("torso coins", rod(0.0, -float(d.coin_offset), d.coin_radius, t / 2, t / 2 + coins)),
-            Part3D("axle skewer", rod(0.0, 0.0, build.SKEWER_D / 2, -reach, reach))]
+            Part3D("axle skewer", rod(0.0, 0.0, build.SKEWER_D / 2, -axle / 2, axle / 2))]
 
 
 def arm_parts(d) -> list[Part3D]:

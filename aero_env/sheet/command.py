@@ -2,8 +2,9 @@
 
     aero-env sheet CONFIG --out DIR|FILE.md|FILE.svg|FILE.json|FILE.glb [--draws N] [--seed S] [--set KEY=VALUE ...]
 
-A folder: all four, as ``DIR/sheet.md``, ``DIR/template.svg``, ``DIR/parts.json`` and ``DIR/assembly.glb``
-(the folder is made if missing; an earlier sheet in it is written over, as a file would be).
+A folder: all of them, as ``DIR/sheet.md``, ``DIR/template.svg``, ``DIR/parts.json``, ``DIR/assembly.glb``,
+``DIR/kit-a4.pdf`` and ``DIR/kit-letter.pdf`` (the folder is made if missing; an earlier sheet in it is written
+over, as a file would be).
 
 - ``.json``: every piece of the kit (``aero_env/parts/kit.py``): how many to cut, its layers and card, what is
   added to it, its mass, and the model field it makes up.
@@ -13,6 +14,8 @@ A folder: all four, as ``DIR/sheet.md``, ``DIR/template.svg``, ``DIR/parts.json`
   share of hand-made builds (``aero-env robustness``'s tolerances) that still complete it, the bench checks, and
   a troubleshooting table keyed by the outcome a maker sees.
 - ``.svg``: the template to print and cut (``template.py``): every part at 1:1 and the stand to scale.
+- ``.pdf``: the kit to print on card (``kit_pdf.py``): a bill of materials, then every copy of every piece,
+  packed whole onto pages of ``--paper`` (A4 or US Letter).
 - ``.glb``: the row as 3D solids in metres (``aero_env/parts/solids.py``, ``gltf.py``), the frames at rest and
   the robot where the world starts it.
 
@@ -28,16 +31,20 @@ from pathlib import Path
 from ..config import Config, ConfigError
 from ..files import write_atomically, write_text_atomically
 from ..scene_args import add_seed
+from .kit_pdf import PAGES
 
 DEFAULT_DRAWS = 50
 DEFAULT_SEED = 0
-FORMATS = (".md", ".svg", ".json", ".glb")
+FORMATS = (".md", ".svg", ".json", ".glb", ".pdf")
 
 
 def register(sub, scene_command) -> None:
     sp = scene_command(sub, "sheet", "a build sheet (.md) and a 1:1 cutting template (.svg) for a design")
-    sp.add_argument("--out", required=True, metavar="DIR|FILE.md|FILE.svg|FILE.json|FILE.glb",
-                    help="a folder for all four (sheet.md, template.svg, parts.json, assembly.glb), or one file")
+    sp.add_argument("--out", required=True, metavar="DIR|FILE.md|FILE.svg|FILE.json|FILE.glb|FILE.pdf",
+                    help="a folder for all (sheet.md, template.svg, parts.json, assembly.glb, kit-a4.pdf, "
+                         "kit-letter.pdf), or one file")
+    sp.add_argument("--paper", choices=sorted(PAGES), default="a4",
+                    help="the page size of a single FILE.pdf (a folder gets both; default a4)")
     sp.add_argument("--draws", type=int, default=DEFAULT_DRAWS,
                     help=f"hand-made builds drawn for the robustness line of a .md sheet; 0 skips it "
                          f"(default {DEFAULT_DRAWS})")
@@ -67,6 +74,7 @@ def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str
     robust = robustness_line(cfg, config_name, draws, seed, progress, compare)
     return "\n".join([f"# Build sheet: {config_name}", "", verdict, "", robust, "",
                       *rows, "",
+                      "## What to buy", "", *buy_lines(cfg), "",
                       "## Do the parts clear each other?", "", *clearance_lines(cfg), "",
                       "## Bench checks", "",
                       "- **The spring**: the bench check in the table above (a load at the hook tip, the arm's turn).",
@@ -107,6 +115,20 @@ def robustness_line(cfg: Config, config_name: str, draws: int, seed: int, progre
     name, other = compare
     j = completed(other, "sheet: robustness of --compare")
     return line + f" The same {draws} builds of {name}: **{j} of {draws}** ({100 * j / draws:.0f} %)."
+
+
+def buy_lines(cfg: Config) -> list[str]:
+    """The bill of materials as the sheet's list, the card counted in sheets of both page sizes."""
+    from .kit_pdf import PAGES, copies, pack
+    from .materials import bill_lines
+    from ..parts.kit import pieces
+
+    cs = copies(pieces(cfg))
+    sheets, too_big = {}, []
+    for paper, (name, _, _) in PAGES.items():
+        placed, too_big = pack(cs, paper)
+        sheets[name] = 1 + max((p.page for p in placed), default=-1)
+    return [f"- {line}" for line in bill_lines(cfg, sheets, too_big, in_pdf=False) if line]
 
 
 CONTACTS_SHOWN = 8  # the sheet lists the first meetings; aero-env sheet --out FILE.glb writes the model to look at
@@ -156,6 +178,7 @@ def parts_text(cfg: Config, config_name: str) -> str:
 
 def cmd_sheet(args) -> int:
     from ..scene_args import check_output, check_output_dir, load_scene
+    from .kit_pdf import kit_pdfs
     from .template import svg
 
     out = Path(args.out)
@@ -185,12 +208,16 @@ def cmd_sheet(args) -> int:
     # every text is made before the first file is written: a run stopped in the robustness builds (Ctrl-C, a
     # failure) leaves no template without its sheet
     if folder:
-        files = {out / ASSEMBLY_NAME: assembly_bytes(cfg), out / PARTS_NAME: parts_text(cfg, args.config),
+        pdfs = kit_pdfs(cfg, f"aero-env kit: {args.config}")
+        files = {**{out / f"kit-{paper}.pdf": data for paper, data in pdfs.items()},
+                 out / ASSEMBLY_NAME: assembly_bytes(cfg), out / PARTS_NAME: parts_text(cfg, args.config),
                  out / TEMPLATE_NAME: svg(cfg),
                  out / SHEET_NAME: markdown(cfg, args.config, args.draws, args.seed, TEMPLATE_NAME, progress, compare)}
         out.mkdir(parents=True, exist_ok=True)
     elif out.suffix == ".glb":
         files = {out: assembly_bytes(cfg)}
+    elif out.suffix == ".pdf":
+        files = {out: kit_pdfs(cfg, f"aero-env kit: {args.config}", (args.paper,))[args.paper]}
     elif out.suffix == ".svg":
         files = {out: svg(cfg)}
     elif out.suffix == ".json":

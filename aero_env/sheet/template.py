@@ -22,7 +22,7 @@ from ..config import Config
 from ..parts.build import END as END_M
 from ..parts.build import SKEWER_D, side_card
 from ..parts.card import PAPER_CARD, Card
-from ..parts.kit import HOLE_R, Piece, Shape, no_spring, pieces
+from ..parts.kit import HOLE_R, Piece, Shape, no_spring, pieces, shapes_extent
 
 END = END_M * 1e3  # mm
 HOLE = HOLE_R  # mm, the hole radius for a skewer (frames) or the axle (the arm and torso)
@@ -78,26 +78,9 @@ class Part:
     id: str = ""
 
 
-def _extent(shapes) -> tuple[float, float, float, float]:
-    xs, ys = [], []
-    for s in shapes:
-        if s.tag == "rect":
-            x, y, w, h = s.xy
-            xs += [x, x + w]
-            ys += [y, y + h]
-        elif s.tag == "circle":
-            x, y, r = s.xy
-            xs += [x - r, x + r]
-            ys += [y - r, y + r]
-        else:
-            xs += list(s.xy[0::2])
-            ys += list(s.xy[1::2])
-    return min(xs), min(ys), max(xs), max(ys)
-
-
 def drawn(piece: Piece) -> Part:
     """A kit piece as a template part: its shapes shifted so its left edge is at 0."""
-    x0, y0, x1, y1 = _extent(piece.shapes)
+    x0, y0, x1, y1 = shapes_extent(piece.shapes)
     els = [f'<g transform="translate({-x0:.2f},0)">', *(render(s) for s in piece.shapes), "</g>"] if x0 else \
         [render(s) for s in piece.shapes]
     return Part(piece.name, list(piece.caption), els, x1 - x0, y0, y1 - y0, piece.id)

@@ -1,0 +1,157 @@
+"""``kit-a4.pdf`` and ``kit-letter.pdf``: every copy of every piece, whole on one page, no ink near an edge, and a
+bill of materials that reads back against the config.
+
+The PDFs are read here with pypdf (their drawing operators and text) and rasterised with PDFium, neither of which
+wrote them; the expected counts and sizes are the config's, worked out here or read off the kit's pieces."""
+
+import math
+import re
+
+import numpy as np
+import pypdfium2 as pdfium
+import pytest
+from pypdf import PdfReader
+from pypdf.generic import ContentStream
+
+from aero_env.cli import main
+from aero_env.parts.kit import pieces
+
+from .conftest import PAPER
+
+PT = 25.4 / 72  # mm per PDF point
+PAGE_MM = {"a4": (210.0, 297.0), "letter": (215.9, 279.4)}
+EDGE = 5.0  # mm: no ink nearer an edge (issue 49)
+GRAMMAGE, CARD_T = 0.310, 0.4e-3
+
+
+@pytest.fixture(scope="module")
+def kit(tmp_path_factory):
+    """A folder with the two PDFs as ``aero-env sheet --out FILE.pdf`` writes each (a folder's are the same bytes:
+    test_sheet.py)."""
+    out = tmp_path_factory.mktemp("kit")
+    for paper in ("a4", "letter"):
+        assert main(["sheet", str(PAPER), "--out", str(out / f"kit-{paper}.pdf"), "--paper", paper]) == 0
+    return out
+
+
+def red_polygons(reader: PdfReader, page) -> list[list[tuple[float, float]]]:
+    """Every closed straight-sided path stroked red on a page, its corners in mm from the bottom-left."""
+    out, path, colour, ctm, stack = [], [], None, np.eye(3), []
+    for operands, op in ContentStream(page.get_contents(), reader).operations:
+        if op == b"q":
+            stack.append(ctm)
+        elif op == b"Q":
+            ctm = stack.pop()
+        elif op == b"cm":
+            a, b, c, d, e, f = (float(v) for v in operands)
+            ctm = np.array([[a, b, 0], [c, d, 0], [e, f, 1]]) @ ctm
+        elif op == b"RG":
+            colour = tuple(float(v) for v in operands)
+        elif op in (b"m", b"l"):
+            x, y, _ = np.array([float(operands[0]), float(operands[1]), 1.0]) @ ctm
+            path = [(x * PT, y * PT)] if op == b"m" else path + [(x * PT, y * PT)]
+        elif op == b"c":
+            path = None  # a curve: a circle, not an outline
+        elif op in (b"S", b"s"):
+            if path and colour == (1.0, 0.0, 0.0) and len(path) >= 3:
+                out.append(path)
+            path = []
+    return out
+
+
+def sizes_drawn(kit, paper):
+    """(size of each red four-cornered outline, rounded to 0.1 mm and sorted, with its page) over the pieces' pages."""
+    reader = PdfReader(kit / f"kit-{paper}.pdf")
+    found = []
+    for k, page in enumerate(reader.pages):
+        for poly in red_polygons(reader, page):
+            xs, ys = [p[0] for p in poly], [p[1] for p in poly]
+            if len(poly) == 4:
+                found.append((tuple(sorted((round(max(xs) - min(xs), 1), round(max(ys) - min(ys), 1)))), k))
+    return reader, found
+
+
+@pytest.mark.parametrize("paper", ["a4", "letter"])
+def test_every_page_is_its_paper_and_every_copy_a_build_needs_is_whole_on_one(kit, paper, paper_cfg):
+    reader, found = sizes_drawn(kit, paper)
+    w, h = PAGE_MM[paper]
+    for page in reader.pages:
+        assert float(page.mediabox.width) * PT == pytest.approx(w, abs=0.01)
+        assert float(page.mediabox.height) * PT == pytest.approx(h, abs=0.01)
+    # every piece cut from card, count x layers copies of its outline (its first cut rectangle), each drawn whole:
+    # four corners on one page, inside the 5 mm the printer leaves
+    expected = {}
+    for p in pieces(paper_cfg):
+        if p.layers:
+            outline = next(s for s in p.shapes if s.tag == "rect" and s.kind == "cut")
+            size = tuple(sorted((round(outline.xy[2], 1), round(outline.xy[3], 1))))
+            expected[size] = expected.get(size, 0) + p.count * p.layers
+    drawn = {}
+    for size, _ in found:
+        drawn[size] = drawn.get(size, 0) + 1
+    assert drawn == expected
+    # the side cards, worked out here: two a frame, of as many 0.4 mm layers as keep each at most 20 mm deep
+    d = paper_cfg.design
+    length = 2 * (max(d.La, d.Lb) + 4e-3)
+    layers = math.ceil(d.m1 / 2 / GRAMMAGE / (length * 0.020))
+    depth = (d.m1 / 2 / GRAMMAGE / layers + math.pi * 1.2e-3**2) / length
+    assert drawn[tuple(sorted((round(length * 1e3, 1), round(depth * 1e3, 1))))] == 2 * paper_cfg.scene.frames * layers
+    for k, page in enumerate(reader.pages):
+        boxes = []
+        for poly in red_polygons(reader, page):
+            assert all(EDGE <= x <= w - EDGE and EDGE <= y <= h - EDGE for x, y in poly), (k, poly)
+            if len(poly) == 4:
+                boxes.append((min(p[0] for p in poly), min(p[1] for p in poly), max(p[0] for p in poly),
+                              max(p[1] for p in poly)))
+        # no outline overlaps another: each copy can be cut out whole (a hole's circle is no outline)
+        for i, a in enumerate(boxes):
+            for b in boxes[i + 1:]:
+                assert a[2] <= b[0] or b[2] <= a[0] or a[3] <= b[1] or b[3] <= a[1], (k, a, b)
+
+
+@pytest.mark.parametrize("paper", ["a4", "letter"])
+def test_no_ink_within_5_mm_of_an_edge_and_a_50_mm_bar_and_page_number_on_every_page(kit, paper):
+    doc = pdfium.PdfDocument(kit / f"kit-{paper}.pdf")
+    px = 2  # pixels a mm: a 0.25 mm line still greys its pixel
+    pages = [np.asarray(doc[k].render(scale=px / PT).to_pil().convert("L")) for k in range(len(doc))]
+    doc.close()
+    reader = PdfReader(kit / f"kit-{paper}.pdf")
+    for k, image in enumerate(pages):
+        ink = image < 250
+        band = int(EDGE * px)
+        assert not (ink[:band].any() or ink[-band:].any() or ink[:, :band].any() or ink[:, -band:].any()), k
+        assert ink.any()
+        text = reader.pages[k].extract_text()
+        assert f"page {k + 1} of {len(pages)}" in text and "the bar must measure 50 mm" in text
+        # the bar: the one filled black rectangle, 50 mm long
+        ops = ContentStream(reader.pages[k].get_contents(), reader).operations
+        bars = [float(o[2]) * PT for o, op in ops if op == b"re"]
+        assert bars == [pytest.approx(50.0, abs=1e-3)]
+
+
+def test_each_copy_is_labelled_once_and_the_bill_reads_back_against_the_config(kit, paper_cfg):
+    reader = PdfReader(kit / "kit-a4.pdf")
+    pages = [p.extract_text() for p in reader.pages]
+    labels = re.findall(r"^ *(.+) \((\d+)/(\d+)\)$", "\n".join(pages[1:]), re.M)
+    for p in pieces(paper_cfg):
+        if p.layers:
+            mine = sorted(int(n) for name, n, total in labels if name == p.name and int(total) == p.count * p.layers)
+            assert mine == list(range(1, p.count * p.layers + 1)), p.name
+    bill = " ".join(pages[0].split())
+    d, s = paper_cfg.design, paper_cfg.scene
+    assert f"Card: {len(pages) - 1} A4 sheets of 0.4 mm, 310 g/m² card" in bill
+    coins = s.frames * math.floor(d.m3 / 1e-3 + 1e-9) + round(d.coin_mass / 1e-3)
+    assert f"One-yen coins (1.00 g, 20 mm across): {coins} " in bill
+    clay = d.m3 - math.floor(d.m3 / 1e-3 + 1e-9) * 1e-3
+    assert f"Modelling clay: {s.frames * clay * 1e3:.1f} g" in bill
+    across = (30 + 20 + 2 * 3 * 0.4 + 2 * 2)  # mm: the crossbeams 50 mm apart, 3 layers each, 2 mm proud each end
+    assert (f"{s.frames} x {across:.0f} mm (rotation axis), {2 * s.frames} x {across:.0f} mm (stopper), 1 x " in bill)
+    per_stock = 150 // math.ceil(across)
+    axle = float(re.search(r"1 x (\d+) mm \(robot's axle\)", bill).group(1))
+    stock = math.ceil(s.frames / per_stock) + math.ceil(2 * s.frames / per_stock) + 1
+    assert f"; {stock} skewers 15 cm long give them all." in bill and axle <= 150
+
+
+def test_the_same_kit_is_the_same_bytes(kit, tmp_path):
+    assert main(["sheet", str(PAPER), "--out", str(tmp_path / "again.pdf")]) == 0
+    assert (tmp_path / "again.pdf").read_bytes() == (kit / "kit-a4.pdf").read_bytes()
