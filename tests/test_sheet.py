@@ -165,8 +165,8 @@ def test_the_bench_check_is_the_arms_turn_under_the_papers_loads(paper_cfg):
 def test_one_command_writes_the_sheet_and_its_template(tmp_path, capsys):
     kit = tmp_path / "kit"
     assert main(["sheet", str(PAPER), "--out", str(kit), "--draws", "0", *SHORT_ROW]) == 0
-    assert sorted(p.name for p in kit.iterdir()) == ["assembly.glb", "kit-a4.pdf", "kit-letter.pdf", "parts.json",
-                                                     "sheet.md", "template.svg"]
+    assert sorted(p.name for p in kit.iterdir()) == ["assembly.glb", "assembly.html", "kit-a4.pdf", "kit-letter.pdf",
+                                                     "parts.json", "sheet.md", "template.svg"]
     for paper in ("a4", "letter"):  # a folder's kit is the one a single --out FILE.pdf --paper writes
         assert main(["sheet", str(PAPER), "--out", str(tmp_path / "one.pdf"), "--paper", paper, *SHORT_ROW]) == 0
         assert (tmp_path / "one.pdf").read_bytes() == (kit / f"kit-{paper}.pdf").read_bytes()

@@ -3,8 +3,8 @@
     aero-env sheet CONFIG --out DIR|FILE.md|FILE.svg|FILE.json|FILE.glb [--draws N] [--seed S] [--set KEY=VALUE ...]
 
 A folder: all of them, as ``DIR/sheet.md``, ``DIR/template.svg``, ``DIR/parts.json``, ``DIR/assembly.glb``,
-``DIR/kit-a4.pdf`` and ``DIR/kit-letter.pdf`` (the folder is made if missing; an earlier sheet in it is written
-over, as a file would be).
+``DIR/assembly.html``, ``DIR/kit-a4.pdf`` and ``DIR/kit-letter.pdf`` (the folder is made if missing; an earlier
+sheet in it is written over, as a file would be).
 
 - ``.json``: every piece of the kit (``aero_env/parts/kit.py``): how many to cut, its layers and card, what is
   added to it, its mass, and the model field it makes up.
@@ -17,7 +17,8 @@ over, as a file would be).
 - ``.pdf``: the kit to print on card (``kit_pdf.py``): a bill of materials, then every copy of every piece,
   packed whole onto pages of ``--paper`` (A4 or US Letter).
 - ``.glb``: the row as 3D solids in metres (``aero_env/parts/solids.py``, ``gltf.py``), the frames at rest and
-  the robot where the world starts it.
+  the robot where the world starts it; ``.html``: the same model in a page any browser opens from the disk
+  (``aero_env/parts/viewer.py``).
 
 The output path is checked before anything is simulated; the robustness builds show their progress on stderr
 (``--no-progress``: none).
@@ -35,14 +36,14 @@ from .kit_pdf import PAGES
 
 DEFAULT_DRAWS = 50
 DEFAULT_SEED = 0
-FORMATS = (".md", ".svg", ".json", ".glb", ".pdf")
+FORMATS = (".md", ".svg", ".json", ".glb", ".html", ".pdf")
 
 
 def register(sub, scene_command) -> None:
     sp = scene_command(sub, "sheet", "a build sheet (.md) and a 1:1 cutting template (.svg) for a design")
-    sp.add_argument("--out", required=True, metavar="DIR|FILE.md|FILE.svg|FILE.json|FILE.glb|FILE.pdf",
-                    help="a folder for all (sheet.md, template.svg, parts.json, assembly.glb, kit-a4.pdf, "
-                         "kit-letter.pdf), or one file")
+    sp.add_argument("--out", required=True, metavar="DIR|FILE.md|FILE.svg|FILE.json|FILE.glb|FILE.html|FILE.pdf",
+                    help="a folder for all (sheet.md, template.svg, parts.json, assembly.glb, assembly.html, "
+                         "kit-a4.pdf, kit-letter.pdf), or one file")
     sp.add_argument("--paper", choices=sorted(PAGES), default="a4",
                     help="the page size of a single FILE.pdf (a folder gets both; default a4)")
     sp.add_argument("--draws", type=int, default=DEFAULT_DRAWS,
@@ -57,6 +58,7 @@ def register(sub, scene_command) -> None:
 
 
 SHEET_NAME, TEMPLATE_NAME, PARTS_NAME, ASSEMBLY_NAME = "sheet.md", "template.svg", "parts.json", "assembly.glb"
+VIEWER_NAME = "assembly.html"
 
 
 def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str | None = None,
@@ -168,6 +170,12 @@ def assembly_bytes(cfg: Config) -> bytes:
     return glb(assembly(cfg), frames, (axle, torso, arm))
 
 
+def viewer_html(model: bytes, config_name: str) -> str:
+    from ..parts.viewer import html
+
+    return html(model, f"aero-env: {config_name}, the row in 3D")
+
+
 def parts_text(cfg: Config, config_name: str) -> str:
     import json
 
@@ -209,13 +217,17 @@ def cmd_sheet(args) -> int:
     # failure) leaves no template without its sheet
     if folder:
         pdfs = kit_pdfs(cfg, f"aero-env kit: {args.config}")
+        model = assembly_bytes(cfg)
         files = {**{out / f"kit-{paper}.pdf": data for paper, data in pdfs.items()},
-                 out / ASSEMBLY_NAME: assembly_bytes(cfg), out / PARTS_NAME: parts_text(cfg, args.config),
+                 out / ASSEMBLY_NAME: model, out / VIEWER_NAME: viewer_html(model, args.config),
+                 out / PARTS_NAME: parts_text(cfg, args.config),
                  out / TEMPLATE_NAME: svg(cfg),
                  out / SHEET_NAME: markdown(cfg, args.config, args.draws, args.seed, TEMPLATE_NAME, progress, compare)}
         out.mkdir(parents=True, exist_ok=True)
     elif out.suffix == ".glb":
         files = {out: assembly_bytes(cfg)}
+    elif out.suffix == ".html":
+        files = {out: viewer_html(assembly_bytes(cfg), args.config)}
     elif out.suffix == ".pdf":
         files = {out: kit_pdfs(cfg, f"aero-env kit: {args.config}", (args.paper,))[args.paper]}
     elif out.suffix == ".svg":
