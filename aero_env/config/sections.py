@@ -16,7 +16,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..inertia import min_Ld, torso_build
+from ..parts.bodies import min_Ld, torso_build
 from ..parts import build
 from ..units import GRAVITY
 from .validation import ConfigError, did_you_mean
@@ -292,7 +292,7 @@ def frame_moment_limit(d):
 
 
 def torso_card_length(d):
-    """The torso card's length (m), its bottom Ld from the hook at alpha_max (:func:`aero_env.inertia.torso_build`)."""
+    """The torso card's length (m), its bottom Ld from the hook at alpha_max (:func:`aero_env.parts.bodies.torso_build`)."""
     return build.torso_net_length(torso_build(d.Ld, d.arm_length, d.alpha_max_deg, d.coin_radius)[0])
 
 

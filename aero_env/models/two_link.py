@@ -31,7 +31,7 @@ and what the frame carries at the seat):
   already an inertia about the hook (of a uniform line whose centre is at (Lc+Ld)/2, not at Lc);
   eta5 = m2·Lc² + I2 then adds a parallel-axis term on top, counting the robot's distance from the
   hook twice. Kept because it is the paper's model.
-- ``"parts"``: the robot as the pymunk world builds it (:class:`aero_env.inertia.RobotParts`:
+- ``"parts"``: the robot as the pymunk world builds it (:class:`aero_env.parts.bodies.RobotParts`:
   arm and torso plates as the kit builds them, coins), held rigid with the arm fully bent (alpha_max, how the robot
   hangs all swing long on a working design): m2 = the parts' mass, Lc and I2 the parts'
   hook-to-centre distance and inertia about their centre, so eta5 = m2·Lc² + I2 is the parts'
@@ -62,7 +62,8 @@ from scipy.integrate import solve_ivp
 
 from ..config import Design
 from ..drag_law import strip_drag
-from ..inertia import RobotParts, counterbalance_inertia, frame_inertia, robot_inertia
+from ..inertia import counterbalance_inertia, frame_inertia, robot_inertia
+from ..parts.bodies import RobotParts
 from ..units import GRAVITY as G
 
 ROBOT_CONVENTIONS = ("paper", "parts")

@@ -1,7 +1,7 @@
 """How each part of the toy is built from card, and what that card weighs and where it sits.
 
 One description per part, read by both sides of the project: the physics takes each body's mass,
-centre and inertia from here (:mod:`aero_env.parts.bodies`), and the kit draws the same pieces at
+centre and inertia from here (through :mod:`aero_env.parts.bodies`), and the kit draws the same pieces at
 1:1 (:mod:`aero_env.parts.kit`). Every function takes a design (an ``aero_env.config.Design``, or
 any object with its fields, floats or numpy arrays of one length so the reduced model can build a
 batch with the same arithmetic) and returns SI values.
@@ -47,7 +47,7 @@ import numpy as np
 
 from .card import PAPER_CARD
 
-Design = Any  # see aero_env.inertia: the config's checks read this module, so it does not import the config
+Design = Any  # see aero_env.parts.bodies: the config's checks read this module, so it does not import the config
 
 GRAMMAGE = PAPER_CARD.grammage  # kg/m², the paper's JOHOKU WB310g (Sec. 6)
 CARD_THICKNESS = PAPER_CARD.thickness

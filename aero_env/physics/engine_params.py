@@ -2,9 +2,10 @@
 
 This is the single place where SI values cross into the engine (see :mod:`aero_env.units`):
 every length, mass, inertia, torque, speed and angle the world uses is converted here once,
-and the world converts nothing. The robot's parts (torso card with its coins, the arm) come from
-:class:`aero_env.inertia.RobotParts`, the same builder the analytical ``parts`` convention uses;
-the handrail's card, which Table 1 counts in m2, rides on the frame at the seat.
+and the world converts nothing. Every body's mass, centre and inertia comes from
+:mod:`aero_env.parts.bodies` (the frame's card, the robot's torso with its coins and its arm), the same values
+the reduced model and the analytical ``parts`` convention read; the handrail's card, which Table 1 counts in m2,
+rides on the frame at the seat.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import pymunk
 
 from .. import units
 from ..config import Config, ConfigError
-from ..inertia import RobotParts, frame_inertia, spring_damping_coefficient
+from ..parts.bodies import RobotParts, frame_card, spring_damping_coefficient
 from .swing_rules import held_past_angle
 
 
@@ -93,14 +94,13 @@ def to_engine(cfg: Config) -> EngineParams:
     parts = RobotParts(d)
     # the pinned-hook scene's robot: the parts held rigid at alpha_max (two_link's "parts" convention)
     rigid_Lc, rigid_I = (float(v) for v in parts.rigid(math.radians(d.alpha_max_deg)))
-    # Eq. (1) adds +dT·cos(theta1); a centre of mass at x along the frame gives -m1·g·x·cos(theta1).
-    frame_com_x = -(d.dT / (d.m1 * units.GRAVITY)) * L
+    _, card_x, I_card = frame_card(d)  # the side cards about the axis, their centre moved by dT
 
     return EngineParams(
         La=d.La * L, Lb=d.Lb * L, h=d.h * L,
         m_frame=d.m1 * M, m_cb=d.m3 * M, m_handrail=d.handrail_mass * M,
-        pivot_friction=d.pivot_friction * units.TORQUE, frame_com_x=frame_com_x,
-        I_frame_axis=frame_inertia(d, "parts") * I,
+        pivot_friction=d.pivot_friction * units.TORQUE, frame_com_x=card_x * L,
+        I_frame_axis=I_card * I,
         rest_angle=rad(d.rest_angle_deg), stop_angle=rad(d.stop_angle_deg), held_past=float(held_past_angle(d)),
         notch_angle=rad(d.notch_angle_deg), notch_opening=rad(d.notch_opening_deg),
         notch_back_face=d.notch_back_face * L, notch_front_face=d.notch_front_face * L,

@@ -3,13 +3,13 @@
 Torso-local coordinates: origin at the axle, the torso hangs along -y to its centre of mass
 at (0, -torso_com). Arm-local coordinates: origin at the axle, +x along the arm to the hook
 tip at (arm_length, 0). The arm angle alpha is the interior angle at the axle between the
-torso and the arm (see :func:`aero_env.inertia.part_layout`); the stopper limits it to
+torso and the arm (see :func:`aero_env.parts.bodies.part_layout`); the stopper limits it to
 [alpha_min, alpha_max] and the leaf spring (a separate part) pushes it toward alpha_min.
 
 Hanging makes the robot's weight open alpha against the spring until the alpha_max limit
 (the "fully bent" spring); in flight the spring snaps the arm forward to alpha_min.
 
-Masses, centres and inertias are the parts' own (:class:`aero_env.inertia.RobotParts`): a card
+Masses, centres and inertias are the parts' own (:class:`aero_env.parts.bodies.RobotParts`): a card
 torso plate with the coins on it, and the arm, a plate from behind the axle to the hook. ``axle_friction`` > 0 adds the
 axle's dry friction as a capped motor (:func:`swing_frame.coulomb_friction`).
 """
@@ -21,7 +21,7 @@ from typing import NamedTuple
 
 import pymunk
 
-from ..inertia import part_layout
+from ..parts.bodies import part_layout
 from .engine_params import EngineParams, rigid_body
 from .swing_frame import HOOK, coulomb_friction
 

@@ -24,6 +24,7 @@ import math
 
 import pymunk
 
+from ..parts.bodies import frame_body
 from ..parts.build import notch_faces
 from .engine_params import EngineParams, rigid_body
 
@@ -45,11 +46,11 @@ class SwingFrame:
     def __init__(self, index: int, p: EngineParams):
         self.index = index
         self.axis = pymunk.Vec2d(index * p.pitch, index * p.rise)
-        # frame card (its centre where dT puts it), counterbalance at (La, h), handrail card at the seat
-        m = p.m_frame + p.m_cb + p.m_handrail
-        cog = pymunk.Vec2d((p.m_frame * p.frame_com_x + p.m_cb * p.La - p.m_handrail * p.Lb) / m, p.m_cb * p.h / m)
-        # I1 is the frame card's inertia about the axis whatever dT says (dT moves its centre, not I1)
-        I_axis = p.I_frame_axis + p.m_cb * (p.La**2 + p.h**2) + p.m_handrail * p.Lb**2
+        # frame card (its centre where dT puts it), counterbalance at (La, h), handrail card at the seat: one body
+        # (the rule's one home: aero_env/parts/bodies.py, here in engine units)
+        m, centre, I_axis = frame_body(p.m_frame, p.frame_com_x, p.I_frame_axis, p.m_cb, p.La, p.h, p.m_handrail,
+                                       p.Lb)
+        cog = pymunk.Vec2d(*centre)
         body = rigid_body(m, I_axis - m * cog.length_squared, "swing frame",
                           "design.m1, design.dT, design.m3, design.La, design.Lb")
         # Order matters in pymunk: centre of gravity, then angle, then position (angle turns about the cog).

@@ -13,7 +13,7 @@ import numpy as np
 
 from ... import units
 from ...config import Config, ConfigError, check_design
-from ...inertia import RobotParts, frame_inertia, spring_damping_coefficient
+from ...parts.bodies import RobotParts, frame_body, frame_card, spring_damping_coefficient
 from ...physics.swing_rules import held_past_angle
 from .constants import DRY_FRICTION_RATE, DRY_FRICTION_STEP, MOUTH_END_REACH, STEP
 from .layout import P
@@ -31,7 +31,7 @@ ALPHA_GRID = 33  # arm angles between the stops where the stall test looks for t
 
 
 class _DesignArrays:
-    """The ``design.*`` arrays of a raw batch as attributes, for :class:`aero_env.inertia.RobotParts`."""
+    """The ``design.*`` arrays of a raw batch as attributes, for :mod:`aero_env.parts.bodies`."""
 
     def __init__(self, raw):
         for k, v in raw.items():
@@ -99,16 +99,15 @@ def param_table(raw: Mapping[str, np.ndarray], dt: float) -> np.ndarray:
     La, Lb, h, m1, m3 = d("La"), d("Lb"), d("h"), d("m1"), d("m3")
     dT = d("dT")
     mh = d("handrail_mass")
-    # the frame: own inertia (its side cards, aero_env/parts), own centre of mass from dT (as engine_params), the counterbalance,
-    # and the handrail's card, a point mass at the seat (-Lb, 0) (swing_frame.SwingFrame)
-    x_f = -dT / (m1 * g)
-    I1 = frame_inertia(_DesignArrays(raw), "parts")  # the side cards as the kit builds them
-    c["If"] = I1 + m1 * x_f**2 + m3 * (La**2 + h**2) + mh * Lb**2
+    # the frame as the world swings it (aero_env/parts/bodies.py): its side cards, the counterbalance at (La, h) and
+    # the handrail's card at the seat, one body about the axis (dT moves the card's centre, not its inertia there)
+    _, x_f, I1 = frame_card(_DesignArrays(raw))
+    _, _, c["If"] = frame_body(m1, x_f, I1, m3, La, h, mh, Lb)
     c["m3gh"] = m3 * g * h
     # the frame's own, the counterbalance's and the handrail card's moment: cfr·cos(theta1) + m3gh·sin(theta1)
     c["cfr"] = dT - m3 * g * La + mh * g * Lb
     c["frame_m"] = m1 + m3 + mh
-    # the robot from its parts (aero_env.inertia.RobotParts, as the pymunk robot is built)
+    # the robot from its parts (aero_env.parts.bodies.RobotParts, as the pymunk robot is built)
     parts = RobotParts(_DesignArrays(raw))
     ma, mt, m2 = parts.m_arm, parts.m_torso, parts.mass
     L, dc = parts.arm_length, parts.torso_com
