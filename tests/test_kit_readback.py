@@ -869,12 +869,17 @@ def test_sheet_md_reads_as_a_whole(sheet):
                    f"{math.ceil(n)} seat-down (it balances at <n>).", (n, 1))
     assert rest[5:10] == [
         "", "## If the row does not complete", "",
-        "What the maker sees, what to change, and the window in which the world completes this design's row with "
-        "everything else as drawn (`aero_env/sheet/troubleshoot.py`: each value walked out from the design's own until "
-        "the row fails, to 0.1 g, 2 % and 0.5 deg):", ""]
+        "What you see, its likely cause, and the change at the bench, with a value to aim for; then each part's "
+        "window, in which the world completes this design's row with everything else as drawn, its margins, and "
+        "whether a hand-made toy's tolerance fits in them (`aero_env/sheet/troubleshoot.py`: each value walked out "
+        "from the design's own until the row fails, to 0.1 g, 2 % and 0.5 deg, and on to the end of its reach):", ""]
     end = rest.index("", 10)
     if r.outcome == "completed":
-        assert rest[10:12] == ["| you see | change | the row completes (this design, in the world) |", "|---|---|---|"]
+        assert rest[10:12] == ["| you see | likely cause (this design, in the world) | change at the bench |",
+                               "|---|---|---|"]
+        end = rest.index("", end + 1)  # the parts' windows, a second table
+        assert rest[rest.index("", 10) + 1:rest.index("", 10) + 3] == [
+            "| part | the row completes with | yours | margins (down / up) | a hand-made toy |", "|---|---|---|---|---|"]
     assert rest[end:] == [
         "", "Lengths are measured along the card. The model is 2D: a part's width across follows from its mass "
         "(aero_env/parts/build.py says how each is built). The friction pair is the paper's Table 3 (JIS K7125, 0.4 mm "

@@ -294,33 +294,76 @@ def test_a_tuned_value_reads_as_a_maker_reads_it(paper_cfg):
     assert workbench("design.rest_angle_deg", 55.0, paper_cfg) == ""
 
 
+SEEN = {"falls short": "fell_short", "does not hook on": "missed_catch", "never lets go": "no_detach",
+        "never turns": "stalled"}  # what the maker sees, in the sheet's words, and the world's outcome
+KNOB = {"counterbalance": ("design.m3", 1e-4), "spring": ("design.spring_k", None),
+        "rest": ("design.rest_angle_deg", 0.5)}  # the maker's step: 0.1 g, 2 %, 0.5 deg
+SI = {"g": 1e-3, "N·mm/rad": 1e-3, "deg": 1.0}  # the printed unit to the field's
+
+
+def _values(text: str) -> list[float]:
+    """The field values a cell states, in SI: "6.7 g", "(below 50.5 deg)", "(1.295 N·mm/rad)"."""
+    return [float(x) * SI[u] for x, u in re.findall(r"([0-9.]+) (g|deg|N·mm/rad)\b", text)]
+
+
 def test_the_troubleshooting_table_is_what_the_world_does_at_its_edges(paper_cfg):
-    """Each row's window, read back from the table's text, is re-run here: at the window's edge the row completes,
-    and one maker's step (0.1 g, 2 %, 0.5 deg) beyond it the world gives the outcome the row says the maker sees."""
+    """Each symptom row, read back from the table's words, is re-run here: at the edge its cause names the row
+    completes, and one maker's step (0.1 g, 2 %, 0.5 deg) beyond it the world shows what the row says the maker
+    sees, on that transfer; a cause "far" out is what the world shows at the value it names. Each part's window
+    completes at both edges; its margins are yours less the edges, and "fits" says whether a hand-made toy's
+    tolerance (3 % of m3, 15 % of the spring, 2 deg, written out here) fits in both. The stopper's hole moves
+    round its arc by its distance from the axis hole (La/2 along the card, half the card's depth and the skewer's
+    radius off it) per radian."""
     from aero_env.sheet.troubleshoot import table
     from aero_env.simulation import simulate
 
-    rows = [r for r in table(paper_cfg) if r.startswith("| ") and not r.startswith("| you see")]
-    assert rows, table(paper_cfg)
-    keys = {"counterbalance": ("design.m3", 1e-4), "spring": ("design.spring_k", None),
-            "rest angle": ("design.rest_angle_deg", 0.5)}  # the maker's step: 0.1 g, 2 %, 0.5 deg
-    si = {"g": 1e-3, "N·mm/rad": 1e-3, "deg": 1.0}  # the printed unit to the field's
-    checked = 0
+    lines = table(paper_cfg)
+    split = lines.index("")
+    rows = [r for r in lines[2:split]]
+    assert rows, lines
+    d = paper_cfg.design
+    card = d.m1 / 2 / 0.310
+    length = 2 * (max(d.La, d.Lb) + 4e-3)
+    depth = (card / math.ceil(card / (length * 0.020)) + math.pi * 1.2e-3**2) / length
+    mm_per_deg = math.hypot(d.La / 2, depth / 2 + 1e-3) * 1e3 * math.pi / 180
+    kinds = set()
     for row in rows:
-        seen, change, window = (c.strip() for c in row.strip("|").split("|"))
-        outcome, transfer = re.match(r"(\w+) \(transfer (\d+)\)", seen).groups()
-        key, step = next(v for k, v in keys.items() if change.startswith(k))
-        lo, hi = (float(x) * si[u] for x, u in re.findall(r"([0-9.]+) (g|deg|N·mm/rad)", window)[:2])
-        toward = "lighter" in change or "softer" in change or "lower" in change  # the maker is past the upper edge
-        edge = hi if toward else lo
-        beyond = edge * 1.02 if step is None and toward else edge / 1.02 if step is None else \
-            edge + step if toward else edge - step
-        at_edge = simulate(paper_cfg.replace({key: edge}))
-        past = simulate(paper_cfg.replace({key: beyond}))
-        assert at_edge.outcome == "completed", (row, at_edge.reason)
-        assert (past.outcome, past.traversals + 1) == (outcome, int(transfer)), (row, past.reason)
-        checked += 1
-    assert checked >= 3
+        seen, cause, change = (c.strip() for c in row.strip("|").split("|"))
+        outcome = next(o for words, o in SEEN.items() if words in seen)
+        transfer = int(re.search(r"\(transfer (\d+): frame (\d+) to frame (\d+)\)", seen).group(1))
+        key, step = next(v for k, v in KNOB.items() if cause.startswith(k))
+        value = _values(cause)[-1]
+        if key == "design.rest_angle_deg":  # the hole's move round its arc, in mm, for the degrees it states
+            arc = float(re.search(r"the hole (?:more than )?([0-9.]+) mm", cause).group(1))
+            assert arc == pytest.approx(abs(value - d.rest_angle_deg) * mm_per_deg, abs=0.051), row
+        up = "too heavy" in cause or "too stiff" in cause or "too high" in cause
+        assert ("take clay off" in change or "narrower" in change or "down its arc" in change) == up, row
+        if "far too" in cause:
+            past = simulate(paper_cfg.replace({key: value}))
+        else:
+            assert simulate(paper_cfg.replace({key: value})).outcome == "completed", row
+            beyond = (value * 1.02 if up else value / 1.02) if step is None else value + (step if up else -step)
+            past = simulate(paper_cfg.replace({key: beyond}))
+        assert (past.outcome, past.traversals + 1) == (outcome, transfer), (row, past.reason)
+        kinds.add(outcome)
+    assert {"missed_catch", "fell_short", "stalled", "no_detach"} <= kinds  # every symptom the issue names
+    # the windows
+    tolerance = {"design.m3": 0.03 * d.m3, "design.spring_k": 0.15 * d.spring_k, "design.rest_angle_deg": 2.0}
+    windows = lines[split + 3:]
+    assert len(windows) == 3
+    for row in windows:
+        part, window, yours, margins, toy = (c.strip() for c in row.strip("|").split("|"))
+        key, _ = next(v for k, v in KNOB.items() if part.startswith(k))
+        lo, hi = _values(window)[:2]
+        here = _values(yours)[0]
+        assert here == pytest.approx(paper_cfg.value(key), rel=1e-3)
+        for edge, open_end in ((lo, "or less" in window), (hi, "or more" in window)):
+            if not open_end:
+                assert simulate(paper_cfg.replace({key: edge})).outcome == "completed", row
+        down, up = _values(margins)
+        digit = {"design.m3": 0.05e-3, "design.spring_k": 0.5e-6, "design.rest_angle_deg": 0.05}[key]  # half a digit
+        assert down == pytest.approx(here - lo, abs=digit) and up == pytest.approx(hi - here, abs=digit), row
+        assert ("fits" in toy and "does not fit" not in toy) == (min(here - lo, hi - here) >= tolerance[key]), row
 
 
 @pytest.mark.parametrize("dT", [0.0, 2e-4, -3e-4])

@@ -218,7 +218,8 @@ def torso(cfg) -> Piece:
         (_rect(0, 0, length, w), _circle(end, w / 2, HOLE_R), _circle(end + coin_at, w / 2, r, "mark")))
 
 
-def _spring_plan(cfg, card: Card):
+def spring_plan(cfg, card: Card = PAPER_CARD):
+    """The strip of ``card`` that makes the design's spring (its ``strip`` None, with ``why_not``, when none can)."""
     d = cfg.design
     bend = math.radians(d.alpha_max_deg - d.alpha_min_deg)
     return plan_strip(linear_equivalent(d.spring_k, cfg.scene.effects.spring_law, bend), card, d.arm_length, bend)
@@ -226,12 +227,12 @@ def _spring_plan(cfg, card: Card):
 
 def no_spring(cfg, card: Card = PAPER_CARD) -> str:
     """Why no strip of ``card`` makes the design's spring, or "" when one does."""
-    return _spring_plan(cfg, card).why_not
+    return spring_plan(cfg, card).why_not
 
 
 def spring(cfg, card: Card = PAPER_CARD) -> Piece | None:
     d = cfg.design
-    plan = _spring_plan(cfg, card)
+    plan = spring_plan(cfg, card)
     if plan.strip is None:
         return None
     w, free, tab = plan.strip.width * MM, plan.strip.free_length * MM, GLUE_TAB * MM

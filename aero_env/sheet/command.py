@@ -12,7 +12,7 @@ sheet in it is written over, as a file would be).
   counterbalance goes, the spring as the paper measures it, whether the design completes its row, whether its
   parts clear each other through every frame's swing (``aero_env/parts/clearance.py``), and its robustness: the
   share of hand-made builds (``aero-env robustness``'s tolerances) that still complete it, the bench checks, and
-  a troubleshooting table keyed by the outcome a maker sees.
+  a troubleshooting table in the maker's words and units (what is seen, its cause, the change at the bench).
 - ``.svg``: the template to print and cut (``template.py``): every part at 1:1 and the stand to scale.
 - ``.pdf``: the kit to print on card (``kit_pdf.py``): a bill of materials, then every copy of every piece,
   packed whole onto pages of ``--paper`` (A4 or US Letter).
@@ -82,9 +82,11 @@ def markdown(cfg: Config, config_name: str, draws: int, seed: int, template: str
                       "- **The spring**: the bench check in the table above (a load at the hook tip, the arm's turn).",
                       f"- **The frame's balance**: {frame_balance(cfg)}.", "",
                       "## If the row does not complete", "",
-                      "What the maker sees, what to change, and the window in which the world completes this design's "
-                      "row with everything else as drawn (`aero_env/sheet/troubleshoot.py`: each value walked out "
-                      "from the design's own until the row fails, to 0.1 g, 2 % and 0.5 deg):", "",
+                      "What you see, its likely cause, and the change at the bench, with a value to aim for; then "
+                      "each part's window, in which the world completes this design's row with everything else as "
+                      "drawn, its margins, and whether a hand-made toy's tolerance fits in them "
+                      "(`aero_env/sheet/troubleshoot.py`: each value walked out from the design's own until the row "
+                      "fails, to 0.1 g, 2 % and 0.5 deg, and on to the end of its reach):", "",
                       *table(cfg), "",
                       "Lengths are measured along the card. The model is 2D: a part's width across follows from "
                       "its mass (aero_env/parts/build.py says how each is built). The friction pair is the paper's Table 3 (JIS K7125, 0.4 mm 310 g/m² card). "
