@@ -1,4 +1,5 @@
 import importlib
+import os
 import sys
 from pathlib import Path
 
@@ -27,6 +28,13 @@ def benchmark_module(name: str):
 # The default pymunk world at twice its step: the cheapest run the prototype survives (the former mbd-fast rung,
 # which left the ladder: docs/fidelity.md). Tests that need many cheap pymunk runs, not the default's accuracy, use it.
 COARSE = {"sim.fidelity": "mbd", "sim.dt": 0.001}
+
+
+def per_test_under_mutmut(fixture_name, config) -> str:
+    """A fixture's scope: the module's, but each test's own under mutmut (scripts/mutation.py). mutmut runs, for a
+    mutant, only the tests it saw reach the function it changed; a module's fixture reaches the kit once, in the
+    first test that asks for it, and the other tests that read what it made would never run on a mutant."""
+    return "function" if "MUTANT_UNDER_TEST" in os.environ else "module"
 
 
 @pytest.fixture(scope="session")

@@ -5,7 +5,6 @@ read back from the code that maps; every error is one line naming what is wrong.
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 import pytest
@@ -13,16 +12,11 @@ import pytest
 from aero_env.config import ConfigError, load_config
 from aero_env.design_space import DesignSpace, Draw, changes_outside_tunables, in_action_dtype
 
-from .conftest import PAPER, ROOT
+from .conftest import PAPER, ROOT, per_test_under_mutmut
 
 CONTEXTS = ROOT / "configs" / "contexts.yaml"
 F32 = lambda a: float(np.float32(a))  # noqa: E731  (an action as the env's float32 box holds it)
 
-def per_test_under_mutmut(fixture_name, config) -> str:
-    """A fixture's scope: the module's, but each test's own under mutmut (scripts/mutation.py). mutmut runs, for a
-    mutant, only the tests it saw reach the function it changed; a module's fixture reaches the kit once, in the
-    first test that asks for it, and the other tests that read what it made would never run on a mutant."""
-    return "function" if "MUTANT_UNDER_TEST" in os.environ else "module"
 
 
 

@@ -9,7 +9,6 @@ model field must add up to the config's value. For the prototype and every store
 
 import json
 import math
-import os
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -18,16 +17,13 @@ import pytest
 from aero_env.cli import main
 from aero_env.config import load_config
 
+from .conftest import per_test_under_mutmut
+
 ROOT = Path(__file__).resolve().parents[1]
 SVG = "{http://www.w3.org/2000/svg}"
 CONFIGS = [ROOT / "configs/paper.yaml", *sorted((ROOT / "configs/scenes/solutions").glob("*.yaml"))]
 GRAMMAGE = 0.310  # kg/m²: the paper's card, JOHOKU WB310g (Sec. 6), written out here
 
-def per_test_under_mutmut(fixture_name, config) -> str:
-    """A fixture's scope: the module's, but each test's own under mutmut (scripts/mutation.py). mutmut runs, for a
-    mutant, only the tests it saw reach the function it changed; a module's fixture reaches the kit once, in the
-    first test that asks for it, and the other tests that read what it made would never run on a mutant."""
-    return "function" if "MUTANT_UNDER_TEST" in os.environ else "module"
 
 
 

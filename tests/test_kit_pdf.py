@@ -16,7 +16,7 @@ from pypdf.generic import ContentStream
 from aero_env.cli import main
 from aero_env.parts.kit import pieces
 
-from .conftest import PAPER
+from .conftest import PAPER, per_test_under_mutmut
 
 PT = 25.4 / 72  # mm per PDF point
 PAGE_MM = {"a4": (210.0, 297.0), "letter": (215.9, 279.4)}
@@ -24,7 +24,7 @@ EDGE = 5.0  # mm: no ink nearer an edge (issue 49)
 GRAMMAGE, CARD_T = 0.310, 0.4e-3
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope=per_test_under_mutmut)
 def kit(tmp_path_factory):
     """A folder with the two PDFs as ``aero-env sheet --out FILE.pdf`` writes each (a folder's are the same bytes:
     test_sheet.py)."""

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import re
 import warnings
 import xml.etree.ElementTree as ET
@@ -27,15 +26,12 @@ import pytest
 from aero_env.cli import main
 from aero_env.config import UnitSlipWarning, load_config
 
+from .conftest import per_test_under_mutmut
+
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "configs" / "paper.yaml"
 SVG = "{http://www.w3.org/2000/svg}"
 
-def per_test_under_mutmut(fixture_name, config) -> str:
-    """A fixture's scope: the module's, but each test's own under mutmut (scripts/mutation.py). mutmut runs, for a
-    mutant, only the tests it saw reach the function it changed; a module's fixture reaches the kit once, in the
-    first test that asks for it, and the other tests that read what it made would never run on a mutant."""
-    return "function" if "MUTANT_UNDER_TEST" in os.environ else "module"
 
 
 # ---- the construction, written out (aero_env/parts/build.py's docstring: each a stated choice) ----

@@ -15,7 +15,7 @@ from aero_env.config import load_config
 from aero_env.parts.clearance import static_sweep
 from aero_env.parts.solids import assembly
 
-from .conftest import PAPER
+from .conftest import PAPER, per_test_under_mutmut
 
 CARD_T = 0.4e-3  # m, the paper's card (Sec. 6)
 GRAMMAGE = 0.310  # kg/m²
@@ -86,7 +86,7 @@ def turn(angle: float, x: float, y: float) -> tuple[float, float]:
 
 
 # ---- the model the sheet writes ----
-@pytest.fixture(scope="module")
+@pytest.fixture(scope=per_test_under_mutmut)
 def glb(tmp_path_factory):
     out = tmp_path_factory.mktemp("glb") / "assembly.glb"
     assert main(["sheet", str(PAPER), "--out", str(out), "--draws", "0"]) == 0
