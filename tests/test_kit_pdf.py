@@ -155,3 +155,32 @@ def test_each_copy_is_labelled_once_and_the_bill_reads_back_against_the_config(k
 def test_the_same_kit_is_the_same_bytes(kit, tmp_path):
     assert main(["sheet", str(PAPER), "--out", str(tmp_path / "again.pdf")]) == 0
     assert (tmp_path / "again.pdf").read_bytes() == (kit / "kit-a4.pdf").read_bytes()
+
+
+def test_a_piece_longer_than_a_page_is_cut_by_measure_and_said_so_on_the_first_page(tmp_path):
+    """A row whose first axis stands half a metre up: its uprights (510 mm and more) fit no page; the kit draws the
+    rest and the bill says how to cut them, by measure."""
+    out = tmp_path / "tall.pdf"
+    assert main(["sheet", str(PAPER), "--out", str(out), "--set", "scene.floor_drop=0.5"]) == 0
+    reader = PdfReader(out)
+    bill = " ".join(reader.pages[0].extract_text().split())
+    assert "Cut by measure (longer than a page): upright under the first axis, 6 copies of 10.0 x 510.0 mm." in bill
+    labels = "\n".join(p.extract_text() for p in reader.pages[1:])
+    assert "upright under the first axis (" not in labels and "swing frame side card (48/48)" in labels
+
+
+@pytest.mark.parametrize("config", sorted((PAPER.parent / "scenes/solutions").glob("*.yaml")), ids=lambda p: p.stem)
+def test_every_stored_solutions_kit_prints_whole(config, tmp_path):
+    """Each stored scene solution's kit: every copy on a page inside the margins, none overlapping, each labelled."""
+    from aero_env.config import load_config
+
+    out = tmp_path / "kit.pdf"
+    assert main(["sheet", str(config), "--out", str(out)]) == 0
+    reader = PdfReader(out)
+    cfg = load_config(config)
+    needed = sum(p.count * p.layers for p in pieces(cfg) if p.layers)
+    labels = re.findall(r"\((\d+)/(\d+)\)$", "\n".join(p.extract_text() for p in reader.pages[1:]), re.M)
+    assert len(labels) == needed
+    for page in reader.pages:
+        for poly in red_polygons(reader, page):
+            assert all(EDGE <= x <= 210 - EDGE and EDGE <= y <= 297 - EDGE for x, y in poly)

@@ -203,3 +203,21 @@ def test_frames_far_apart_clear_and_touch_only_their_own_stoppers():
     rest stopper to its end stopper, touching both (they hold it there) and sharing no volume with either."""
     cfg = load_config(PAPER, overrides={"scene.pitch": 0.2, "scene.frames": 3})
     assert static_sweep(assembly(cfg)) == []
+
+
+@pytest.mark.parametrize("config", sorted((PAPER.parent / "scenes/solutions").glob("*.yaml")), ids=lambda p: p.stem)
+def test_every_stored_solution_stands_up_as_closed_solids(config, tmp_path):
+    """Each stored scene solution's row, written as assembly.glb: one node per frame on its axis, every mesh closed
+    with a positive volume."""
+    cfg = load_config(config)
+    out = tmp_path / "row.glb"
+    assert main(["sheet", str(config), "--out", str(out)]) == 0
+    gltf, binary = read_glb(out.read_bytes())
+    nodes = world_nodes(gltf)
+    s = cfg.scene
+    for i in range(s.frames):
+        np.testing.assert_allclose(nodes[f"frame-{i}"][0][:3, 3], [i * s.pitch, i * s.rise, 0.0], atol=1e-12)
+    meshes = [node for _, node in nodes.values() if "mesh" in node]
+    assert len(meshes) >= 5 * s.frames
+    for node in meshes:
+        assert closed_volume(*mesh_of(gltf, binary, node)) > 0, node["name"]
