@@ -35,7 +35,7 @@ from aero_env.intervals import difference_interval, seeds_then_contexts
 
 from rl_holdout import TASKS, holdout_seeds, single_action
 from rl_policies import checked_args, parse_seeds
-from rl_vs_tuning import pct_ci
+from rl_vs_tuning import pct_ci, points_ci
 
 METHODS = ("prototype", "single", "linear-map", "mlp-map", "nearest-neighbour", "ppo", "sac", "ppo-reduced",
            "ppo-multifidelity", "oracle")
@@ -172,7 +172,7 @@ def report(args) -> None:
     for r in rows:
         cells = [pct_ci(r[k]["mean"], r[k]["ci"]) if k in r else "-" for k in ("inside", "beyond")]
         d = r.get("beyond_minus_single")
-        vs = "-" if d is None else f"{100 * d['diff']:+.1f} [{100 * d['ci'][0]:+.1f}, {100 * d['ci'][1]:+.1f}]"
+        vs = "-" if d is None else points_ci(d["diff"], d["ci"])
         print(f"| {r['method']} | {r['seeds']} | {cells[0]} | {cells[1]} | {vs} |")
     print("beyond, by the way out (contexts; a context may leave by two ways): whole-row share, mean over seeds")
     print("| method | " + " | ".join(f"{k} ({v})" for k, v in rep["ways_out"].items()) + " |")

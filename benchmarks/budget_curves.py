@@ -48,7 +48,7 @@ from aero_env.intervals import difference_interval, seeds_then_contexts
 from map_budgets import check_block, check_seeds, map_at_budgets
 from rl_holdout import TASKS, holdout_seeds, single_action, watch_seeds
 from rl_policies import N_ENVS, PPO_HP, SAC_HP, parse_seeds, training_seed
-from rl_vs_tuning import pct_ci
+from rl_vs_tuning import pct_ci, points_ci
 
 LEARNERS = ("random", "cmaes", "linear-map", "mlp-map", "ppo", "sac")
 SEARCHES = ("random", "cmaes")           # a search per scored episode, at mbd
@@ -428,7 +428,7 @@ def print_tables(rep: dict) -> None:
     base = next((r for r in board if r["learner"] == "linear-map"), None)
     if base is not None:
         print(f"against the linear map at {top:,} episodes, paired on the hold-out contexts: " + "; ".join(
-            f"{r['learner']} {100 * d:+.1f} [{100 * ci[0]:+.1f}, {100 * ci[1]:+.1f}]"
+            f"{r['learner']} {points_ci(d, ci)}"
             for r in board if r is not base for d, ci in [difference_interval(r["outcomes"], base["outcomes"])]))
 
 

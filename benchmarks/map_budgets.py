@@ -27,6 +27,7 @@ from aero_env.intervals import seeds_then_contexts
 
 from rl_holdout import TASKS, holdout_seeds, single_action
 from rl_policies import parse_seeds
+from rl_vs_tuning import pct_ci
 
 BUDGET_BASE = 200_000  # the budget study's training contexts: 200,000-399,999 (seed k: 20,000 of them from here)
 BUDGET_BLOCK = 20_000
@@ -149,9 +150,8 @@ def main() -> None:
     print("| map | training episodes | fit wall (median) | whole row: mean [95 % CI] | seeds: lowest-highest |")
     print("|---|---|---|---|---|")
     for r in rows:
-        lo, hi = r["ci"]
-        print(f"| {r['kind']} | {r['budget']} | {r['fit_wall_s']:.0f} s | {100 * r['mean']:.1f} % [{100 * lo:.1f}, "
-              f"{100 * hi:.1f}] | {100 * min(r['per_seed']):.1f}-{100 * max(r['per_seed']):.1f} % |")
+        print(f"| {r['kind']} | {r['budget']} | {r['fit_wall_s']:.0f} s | {pct_ci(r['mean'], r['ci'])} | "
+              f"{100 * min(r['per_seed']):.1f}-{100 * max(r['per_seed']):.1f} % |")
 
 
 if __name__ == "__main__":

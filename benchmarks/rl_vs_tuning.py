@@ -379,6 +379,12 @@ def pct_ci(value: float, ci: list[float]) -> str:
     return f"{100 * value:.1f} % [{100 * ci[0]:.1f}, {100 * ci[1]:.1f}]"
 
 
+def points_ci(diff: float, ci: list[float], unit: str = "") -> str:
+    """A paired difference in shares as signed points with its interval: "+4.8 [+1.2, +8.5]" (``unit`` after the
+    value: " points")."""
+    return f"{100 * diff:+.1f}{unit} [{100 * ci[0]:+.1f}, {100 * ci[1]:+.1f}]"
+
+
 def print_table(rep: dict) -> None:
     seeds = holdout_seeds(rep["holdout_seed"], rep["holdout"])
     print(f"{rep['scene']} ({rep['config']}), whole row = {rep['frames'] - 1} traversals; {rep['holdout']} hold-out "
@@ -406,7 +412,7 @@ def print_table(rep: dict) -> None:
         for d in shown:
             a, b = (d["a"], d["b"]) if d["b"] in refs else (d["b"], d["a"])
             diff, (lo, hi) = difference(rep["differences"], a, b)
-            print(f"| {a} - {b} | {100 * diff:+.1f} points [{100 * lo:+.1f}, {100 * hi:+.1f}] | "
+            print(f"| {a} - {b} | {points_ci(diff, (lo, hi), ' points')} | "
                   f"{'yes' if d['apart'] else 'no'} |")
     print("each method's own designs replayed at reduced (the fast rung):")
     print("| method | whole row at reduced | at mbd | outcomes that part | rows reduced grants, mbd refuses | "
@@ -431,7 +437,7 @@ def print_table(rep: dict) -> None:
         r = rep["recipe"]
         print(f"the multi-fidelity recipe (ppo-multifidelity): {100 * r['mean']:.1f} % against ppo's "
               f"{100 * r['ppo_mean']:.1f} % ({'reached' if r['reached'] else 'not reached'}; the difference "
-              f"{100 * r['diff']:+.1f} points [{100 * r['diff_ci'][0]:+.1f}, {100 * r['diff_ci'][1]:+.1f}]), "
+              f"{points_ci(r['diff'], r['diff_ci'], ' points')}), "
               f"in {r['wall_s']:.0f} s a "
               f"seed against ppo's {r['ppo_wall_s']:.0f} s (medians over seeds): {r['wall_ratio']:.2f} of its wall "
               f"time (the goal: at most 1/3)")

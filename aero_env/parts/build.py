@@ -208,5 +208,7 @@ def torso_plate(d: Design, torso_length) -> dict:
 
 
 def coin_stack(d: Design) -> dict:
-    """The torso's coins: how many one-yen coins design.coin_mass is (not rounded here)."""
-    return dict(coins=d.coin_mass / YEN_COIN, mass=d.coin_mass)
+    """The torso's coins: how many one-yen coins design.coin_mass is (not rounded here), and whether that is a
+    ``whole`` number of them (else the kit and the bill speak of grams of coins or metal)."""
+    coins = d.coin_mass / YEN_COIN
+    return dict(coins=coins, whole=np.abs(coins - np.round(coins)) < 1e-6, mass=d.coin_mass)

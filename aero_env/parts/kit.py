@@ -206,9 +206,8 @@ def torso(cfg) -> Piece:
     t = build.torso_plate(d, d.torso_length)
     n, w, length = int(t["layers"]), t["width"] * MM, t["length"] * MM
     end, coin_at, r = build.END * MM, d.coin_offset * MM, d.coin_radius * MM
-    coins = d.coin_mass / build.YEN_COIN
-    whole = abs(coins - round(coins)) < 1e-6
-    coins_text = f"{coins:.0f} one-yen coins" if whole else f"{d.coin_mass * 1e3:.2f} g of coins"
+    stack = build.coin_stack(d)
+    coins_text = f"{stack['coins']:.0f} one-yen coins" if stack["whole"] else f"{d.coin_mass * 1e3:.2f} g of coins"
     return Piece(
         "torso", "part-torso", 1, n, (length * w - math.pi * HOLE_R**2) / MM**2, ((coins_text, d.coin_mass),),
         "design.m2", 1, (),

@@ -51,11 +51,9 @@ class Part3D:
 @dataclass(frozen=True)
 class Layout:
     """Where each frame's parts sit across the row: ``spans[i]`` (m) is frame i's side cards' inner faces apart
-    (the card pair centred on z = 0); ``stoppers`` says how far a stopper skewer reaches: ``through`` the whole
-    stand, from crossbeam to crossbeam."""
+    (the card pair centred on z = 0). Every stopper skewer spans the stand, from crossbeam to crossbeam."""
     name: str
     spans: tuple[float, ...]
-    stoppers: str = "through"
 
 
 def identical_layout(cfg) -> Layout:
@@ -159,8 +157,6 @@ def stand_parts(cfg, layout: Layout) -> list[Part3D]:
     for i in range(s.frames):
         ax, ay = i * s.pitch, i * s.rise
         out.append(Part3D(f"axis skewer {i}", rod(ax, ay, r, -lengths["axis"] / 2, lengths["axis"] / 2)))
-        if layout.stoppers != "through":
-            raise ValueError(f"layout.stoppers {layout.stoppers!r}: only 'through' is built")
         for what, (ox, oy) in (("rest", rest), ("end", stop)):
             half = lengths["stopper"] / 2
             out.append(Part3D(f"{what} stopper skewer {i}", rod(ax + ox, ay + oy, r, -half, half)))
@@ -185,7 +181,7 @@ def torso_parts(d) -> list[Part3D]:
     w, t = float(plate["width"]), float(plate["layers"]) * build.CARD_THICKNESS
     axle = skewer_lengths(d)["axle"]  # through the torso and across the arm's width, centred on the plane
     card = box(-w / 2, w / 2, -torso_length, build.END, -t / 2, t / 2) - rod(0.0, 0.0, build.HOLE_D / 2, -t, t)
-    coins = d.coin_mass / build.YEN_COIN * build.YEN_COIN_THICKNESS
+    coins = build.coin_stack(d)["coins"] * build.YEN_COIN_THICKNESS
     return [Part3D("torso", card),
             Part3D("torso coins", rod(0.0, -float(d.coin_offset), d.coin_radius, t / 2, t / 2 + coins)),
             Part3D("axle skewer", rod(0.0, 0.0, build.SKEWER_D / 2, -axle / 2, axle / 2))]

@@ -123,7 +123,7 @@ def robustness_line(cfg: Config, config_name: str, draws: int, seed: int, progre
 
 def buy_lines(cfg: Config) -> list[str]:
     """The bill of materials as the sheet's list, the card counted in sheets of both page sizes."""
-    from .kit_pdf import PAGES, copies, pack
+    from .kit_pdf import copies, pack, page_count
     from .materials import bill_lines
     from ..parts.kit import pieces
 
@@ -131,7 +131,7 @@ def buy_lines(cfg: Config) -> list[str]:
     sheets, too_big = {}, []
     for paper, (name, _, _) in PAGES.items():
         placed, too_big = pack(cs, paper)
-        sheets[name] = 1 + max((p.page for p in placed), default=-1)
+        sheets[name] = page_count(placed)
     return [f"- {line}" for line in bill_lines(cfg, sheets, too_big, in_pdf=False) if line]
 
 

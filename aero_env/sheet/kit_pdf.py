@@ -28,7 +28,7 @@ from ..parts.kit import Piece, Shape, shapes_extent
 
 PAGES = {"a4": ("A4", A4[0] / mm, A4[1] / mm), "letter": ("US Letter", LETTER[0] / mm, LETTER[1] / mm)}
 EDGE = 5.0  # mm: no ink nearer a page's edge than this (what home printers leave unprinted)
-MARGIN = 8.0  # mm: the pages' clear border, EDGE and room for a printer's shift and the line widths
+MARGIN = EDGE + 3.0  # mm: the pages' clear border, room for a printer's shift and the line widths past EDGE
 HEADER = 12.0  # mm: the bar, the page number and the legend at the top of each page
 GAP = 3.0  # mm between pieces: room for the scissors
 FONT, LABEL_PT, HEAD_PT = "Helvetica", 6.0, 7.0
@@ -105,6 +105,11 @@ def _packed(sizes: dict[int, tuple[int, int]], bin_size: tuple[int, int], algo, 
     packer.add_bin(*bin_size, count=float("inf"))
     packer.pack()
     return packer.rect_list()
+
+
+def page_count(placed: list[Placed]) -> int:
+    """The pages a packing fills (its copies' pages count from 0)."""
+    return 1 + max((p.page for p in placed), default=-1)
 
 
 def pack(cs: list[Copy], paper: str) -> tuple[list[Placed], list[Copy]]:
@@ -212,7 +217,7 @@ def kit_pdf(pieces: list[Piece], bill_lines, paper: str, title: str) -> bytes:
     pieces, copies too big for a page)`` gives its lines), then the pieces' pages."""
     name, page_w, page_h = PAGES[paper]
     placed, too_big = pack(copies(pieces), paper)
-    sheets = 1 + max((p.page for p in placed), default=-1)
+    sheets = page_count(placed)
     bill = paginate(bill_lines(name, sheets, too_big), paper)
     total = len(bill) + sheets
     buf = io.BytesIO()

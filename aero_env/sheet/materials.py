@@ -18,7 +18,7 @@ SKEWER_STOCK = 0.15  # m: a bamboo skewer as sold (15 cm; longer ones give more 
 
 def card_area(ps: list[Piece]) -> float:
     """m² of card in every copy the kit cuts: each piece's outline less its holes, times its layers and count."""
-    return sum(p.card_area_m2 * p.layers * p.count for p in ps)
+    return sum(p.card_area_m2 * p.cuts for p in ps)
 
 
 def glued_area(ps: list[Piece]) -> float:
@@ -47,8 +47,8 @@ def bill_lines(cfg: Config, sheets: dict[str, int], too_big=(), in_pdf: bool = T
     ps = pieces(cfg)
     load = build.counterbalance_load(d.m3)
     coins, clay = int(load["coins"]), float(load["clay"])
-    robot_coins = d.coin_mass / build.YEN_COIN
-    whole = abs(robot_coins - round(robot_coins)) < 1e-6
+    stack = build.coin_stack(d)
+    robot_coins, whole = stack["coins"], stack["whole"]
     n_copies = sum(p.cuts for p in ps)
     paper = " or ".join(f"{n} {name}" for name, n in sheets.items())
     pages = ("the pages after this one" if in_pdf else

@@ -102,11 +102,10 @@ def param_table(raw: Mapping[str, np.ndarray], dt: float) -> np.ndarray:
     # the frame as the world swings it (aero_env/parts/bodies.py): its side cards, the counterbalance at (La, h) and
     # the handrail's card at the seat, one body about the axis (dT moves the card's centre, not its inertia there)
     _, x_f, I1 = frame_card(_DesignArrays(raw))
-    _, _, c["If"] = frame_body(m1, x_f, I1, m3, La, h, mh, Lb)
+    c["frame_m"], _, c["If"] = frame_body(m1, x_f, I1, m3, La, h, mh, Lb)
     c["m3gh"] = m3 * g * h
     # the frame's own, the counterbalance's and the handrail card's moment: cfr·cos(theta1) + m3gh·sin(theta1)
     c["cfr"] = dT - m3 * g * La + mh * g * Lb
-    c["frame_m"] = m1 + m3 + mh
     # the robot from its parts (aero_env.parts.bodies.RobotParts, as the pymunk robot is built)
     parts = RobotParts(_DesignArrays(raw))
     ma, mt, m2 = parts.m_arm, parts.m_torso, parts.mass
