@@ -1,6 +1,7 @@
 import importlib
 import os
 import sys
+import types
 from pathlib import Path
 
 import pytest
@@ -46,3 +47,23 @@ def paper_cfg():
 def paper_run(paper_cfg):
     """The prototype's whole row, with its trace (simulated once per test session)."""
     return simulate(paper_cfg, trace=True)
+
+
+@pytest.fixture
+def flat_side_cards(monkeypatch):
+    """Build every frame with flat side cards (aero_env/parts/build.py's own build for a design no hollow card fits)
+    instead of the article's hollow ones: the world, the reduced model and the kit alike. For scenarios found on the
+    flat-card machine (before the hollow frame), whose contacts depend on that machine's swing."""
+    import numpy as np
+
+    from aero_env.parts import build
+
+    def flat(d):
+        shape = np.shape(build.side_card_length(d))
+        none = dict(hollow=np.zeros(shape, bool), layers=np.ones(shape), half_depth=np.full(shape, np.nan),
+                    end=np.full(shape, np.nan))
+        return {k: v.item() for k, v in none.items()} if shape == () else none
+
+    monkeypatch.setattr(build, "fit_ring", flat)
+    monkeypatch.setattr(build, "_fit_ring_one",
+                        lambda La, Lb, m1, rest, stop: flat(types.SimpleNamespace(La=La, Lb=Lb)))

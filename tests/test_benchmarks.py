@@ -189,13 +189,14 @@ def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_ch
     from aero_env.robustness.study import assess
     from aero_env.robustness.tolerances import DEFAULT_TOLERANCES
 
-    # six designs near the prototype (a uniform sample of six rarely holds a design the reduced model misses; seed 133:
+    # six designs near the prototype (a uniform sample of six rarely holds a design the reduced model misses; seed 147:
     # the test needs the builds to keep different designs' counts at reduced than at mbd and the reduced model to miss
-    # one, which seeds 2, 54, 61, then 93 lost as the reduced model's contacts were rebuilt)
+    # one, which seeds 2, 54, 61, 93, then 133 lost as the reduced model's contacts were rebuilt and the frames made
+    # hollow; 147 on the hollow frames, where 134-146 lacked a miss or a robust set that the rung changes)
     near = ("--near", PAPER, "--spread", "0.15")
-    r = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "133", *near, "--settings", "2/5,reduced",
+    r = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "147", *near, "--settings", "2/5,reduced",
                "--builds", "4", "--jobs", "2", "--json")
-    sample = draw_designs(load_config(PAPER), 6, 133, near=load_config(PAPER), spread=0.15)
+    sample = draw_designs(load_config(PAPER), 6, 147, near=load_config(PAPER), spread=0.15)
     assert r["converged_designs"] == 6, "a design of this sample no longer converges: pick another seed"
     converged = list(range(6))
 
@@ -231,7 +232,7 @@ def test_step_agreement_splits_the_agreement_by_whether_the_makers_tolerances_ch
         "the reduced model should miss a design of this sample: pick another seed"
     assert "--builds -1" in _bench("step_agreement.py", "--builds", "-1", expect=2)
     # --builds-at runs the builds at another rung: the robust designs are then those robustness finds there
-    at = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "133", *near, "--settings", "reduced",
+    at = _bench("step_agreement.py", PAPER, "--designs", "6", "--seed", "147", *near, "--settings", "reduced",
                 "--builds", "4", "--builds-at", "reduced", "--jobs", "2", "--json")
     there = [i for i in converged if keeps_its_count(sample.configs[i].replace({"sim.fidelity": "reduced"}))]
     assert at["builds_at"] == "reduced" and at["robust_designs"] == there != robust

@@ -201,9 +201,11 @@ def test_a_hook_moved_through_a_card_between_two_steps_is_unstable_by_the_tunnel
 
 
 def test_the_default_time_step_has_a_margin(paper_cfg):
-    # half the default step and twice it agree with it; four times it is reported unstable
-    outcomes = {dt: simulate(paper_cfg.replace({"sim.dt": dt})).outcome for dt in (0.00025, 0.001, 0.002)}
-    assert outcomes == {0.00025: "completed", 0.001: "completed", 0.002: "unstable"}
+    # half the default step, twice it and four times it (the largest sim.contact_hold allows) agree with it. (With
+    # the flat side cards' smaller frame inertia, 42.7 g·cm² against the hollow frame's 66.9, four times it was
+    # reported unstable.)
+    runs = {dt: simulate(paper_cfg.replace({"sim.dt": dt})) for dt in (0.00025, 0.001, 0.002)}
+    assert {dt: (r.outcome, r.traversals) for dt, r in runs.items()} == {dt: ("completed", 7) for dt in runs}
 
 
 # ---- a long row: no drift, no cost growing with the row ----
@@ -319,7 +321,7 @@ def test_the_golden_tolerances_absorb_last_bit_changes_and_catch_physical_ones(g
 # A plausible physical change of each whole-run quantity alone, in the record's units: each must be a departure
 # of that quantity and of nothing else (tests/golden/tolerances.py says why each tolerance has its size).
 WHOLE_RUN_CHANGES = {
-    "sim_time": lambda x: x + 0.01,  # the last catch 10 ms later
+    "sim_time": lambda x: x + 0.1,  # the last catch 100 ms later (a last-bit change can move it 24 ms)
     "energy.initial": lambda x: x * (1 + 1e-6),  # a start one part in a million off (a mass, a height)
     "energy.final": lambda x: x * 1.05,  # 5 % more energy left at the end (less dissipated)
     "energy.max_rise": lambda x: x + 3e-7,  # a rise of 3e-7 J somewhere: far under sim.energy_tolerance
@@ -352,9 +354,9 @@ def test_the_golden_whole_run_tolerances_catch_a_physical_change_of_each_quantit
 
 
 def test_the_golden_whole_run_tolerances_absorb_a_last_bit_change_that_moves_an_event(golden, paper_cfg):
-    """theta2's start one part in 1e15 lower: the catches move by steps (sim_time 4.5 ms earlier, the energy left
-    0.2 %, the landing deeper: within tolerances.py's largest measured departures), which the whole-run tolerances
-    must take. Some single swings move past their own tolerances (tolerances.py says so)."""
+    """theta2's start one part in 1e15 lower: the catches move by steps (sim_time 24 ms later, the energy left
+    0.3 % lower: within tolerances.py's largest measured departures), which the whole-run tolerances must take.
+    Some single swings move past their own tolerances (tolerances.py says so)."""
     expected, _ = golden
     nudged = _record(paper_cfg, {"scene.theta2_start_deg": paper_cfg.scene.theta2_start_deg * (1 - 1e-15)})
     assert nudged["sim_time"] != expected["sim_time"]  # an event did move

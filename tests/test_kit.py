@@ -154,6 +154,16 @@ def test_the_world_swings_the_pieces_the_template_draws(tmp_path):
     assert hole_x == pytest.approx(w / 2, abs=1e-5)  # the hole at the card's middle: it balances on the skewer
     card_I = 2 * sigma * (w * h * (w**2 + h**2) / 12 - math.pi * r**4 / 2)
     card_m = 2 * sigma * (w * h - math.pi * r**2)
+    # the article's hollow frame: every further cut rectangle is a window, its card and its inertia taken off
+    outline, *windows = (el for el in group["part-frame-side-card"].iter(SVG + "rect") if el.get("class") == "cut")
+    assert len(windows) == 2
+    hole = next(el for el in group["part-frame-side-card"].iter(SVG + "circle") if el.get("class") == "cut")
+    for win in windows:
+        x, y, ww, wh = (float(win.get(k)) * 1e-3 for k in ("x", "y", "width", "height"))
+        cx, cy = x + ww / 2 - float(hole.get("cx")) * 1e-3, y + wh / 2 - float(hole.get("cy")) * 1e-3
+        card_I -= 2 * sigma * ww * wh * ((ww**2 + wh**2) / 12 + cx**2 + cy**2)
+        card_m -= 2 * sigma * ww * wh
+    assert card_I == pytest.approx(2 * d.m1 / 3 * (d.La**2 + d.Lb**2 - d.La * d.Lb), rel=1e-3)  # A13, as drawn
     world = World(cfg)
     body = world.frames[0].body
     about_axis = (body.moment + body.mass * body.center_of_gravity.length_squared) / INERTIA
@@ -175,15 +185,18 @@ def test_the_world_swings_the_pieces_the_template_draws(tmp_path):
 
 def test_the_crossbeam_lays_out_the_rows_axes_and_stoppers_at_1_to_1(tmp_path):
     """Read off the template alone: the axis holes lie pitch-and-rise apart along the beam, and a skewer in each
-    stopper hole holds a side card (its depth read off the template too) at the rest angle and at the end stop:
-    its centre La/2 along the frame line and a card's half-depth plus a skewer's radius off it, on the side the
-    counterbalance turns toward. Every segment of a long row, and segments that share their end axis."""
+    stopper hole holds a side card (its hub bar read off the template too) at the rest angle and at the end stop:
+    its centre a skewer's radius off the hub bar's edge, inside the window. Every segment of a long row, and
+    segments that share their end axis."""
     cfg = load_config(ROOT / "configs/paper.yaml")
     d, s = cfg.design, cfg.scene
     main(["sheet", str(ROOT / "configs/paper.yaml"), "--out", str(tmp_path / "t.svg")])
     root = ET.parse(tmp_path / "t.svg").getroot()
     groups = {g.get("id"): g for g in root.iter(SVG + "g") if (g.get("id") or "").startswith("part-")}
-    depth = float(next(groups["part-frame-side-card"].iter(SVG + "rect")).get("height"))  # mm
+    _, left, right = sorted((float(r.get("x")), float(r.get("width"))) for r in groups["part-frame-side-card"].iter(
+        SVG + "rect") if r.get("class") == "cut")  # the outline, then its two windows
+    hub = right[0] - (left[0] + left[1])  # mm: the bar between the windows, the hole in it
+    travel = math.radians(d.stop_angle_deg - d.rest_angle_deg + 15.0)  # with the 15 deg the rest stopper may move
     beams = sorted((k for k in groups if k.startswith("part-crossbeam-")), key=lambda k: int(k.rsplit("-", 1)[1]))
     assert beams, sorted(groups)
     beta = math.atan2(s.rise, s.pitch)
@@ -195,8 +208,10 @@ def test_the_crossbeam_lays_out_the_rows_axes_and_stoppers_at_1_to_1(tmp_path):
         x, y = u * math.cos(beta) - v * math.sin(beta), u * math.sin(beta) + v * math.cos(beta)  # level world, mm
         a = math.radians(angle_deg)
         along, across = x * math.cos(a) + y * math.sin(a), -x * math.sin(a) + y * math.cos(a)
-        # the SVG gives every coordinate to 0.01 mm, so 0.05 mm
-        return (along == pytest.approx(d.La * 500, abs=0.05) and abs(across) == pytest.approx(depth / 2 + 1.0, abs=0.05)
+        # the SVG gives every coordinate to 0.01 mm, so 0.05 mm; a skewer's radius (1 mm) off the hub bar's edge,
+        # each turning through the window over the travel: half of it off the frame line
+        return (along == pytest.approx(hub / 2 + 1.0, abs=0.05)
+                and abs(across) == pytest.approx((hub / 2 + 1.0) * math.tan(travel / 2), abs=0.05)
                 and math.copysign(1, across) == falls)
 
     axes_seen = []
@@ -212,9 +227,9 @@ def test_the_crossbeam_lays_out_the_rows_axes_and_stoppers_at_1_to_1(tmp_path):
             xs = sorted(xs)
             assert all(b - a == pytest.approx(step, abs=0.02) for a, b in zip(xs, xs[1:]))
             others = [(y, sorted(v)[0] - xs[0]) for y, v in rows.items() if y != axis_y]
-            # the rest stopper is on the side the counterbalance falls to (below the frame line), the end stop's above
-            rest = [o for o in others if holds((o[1], o[0] - axis_y), d.rest_angle_deg, -1)]
-            stop = [o for o in others if holds((o[1], o[0] - axis_y), d.stop_angle_deg, +1)]
+            # the rest stopper above the frame line at rest (the hub bar turns back into it), the end one below
+            rest = [o for o in others if holds((o[1], o[0] - axis_y), d.rest_angle_deg, +1)]
+            stop = [o for o in others if holds((o[1], o[0] - axis_y), d.stop_angle_deg, -1)]
             if rest and stop:
                 found.append(len(xs))
         assert len(found) == 1, (k, rows)

@@ -17,6 +17,7 @@ from aero_env.cli import main
 from aero_env.parts.kit import pieces
 
 from .conftest import PAPER, per_test_under_mutmut
+from .test_kit_readback import hollow_card
 
 PT = 25.4 / 72  # mm per PDF point
 PAGE_MM = {"a4": (210.0, 297.0), "letter": (215.9, 279.4)}
@@ -59,15 +60,21 @@ def red_polygons(reader: PdfReader, page) -> list[list[tuple[float, float]]]:
     return out
 
 
-def sizes_drawn(kit, paper):
-    """(size of each red four-cornered outline, rounded to 0.1 mm and sorted, with its page) over the pieces' pages."""
+def sizes_drawn(kit, paper, windows=False):
+    """(size of each red four-cornered outline, rounded to 0.1 mm and sorted, with its page) over the pieces' pages;
+    a four-cornered cut inside another is a window cut out of that piece, listed instead with ``windows``."""
     reader = PdfReader(kit / f"kit-{paper}.pdf")
     found = []
     for k, page in enumerate(reader.pages):
+        boxes = []
         for poly in red_polygons(reader, page):
             xs, ys = [p[0] for p in poly], [p[1] for p in poly]
             if len(poly) == 4:
-                found.append((tuple(sorted((round(max(xs) - min(xs), 1), round(max(ys) - min(ys), 1)))), k))
+                boxes.append((min(xs), min(ys), max(xs), max(ys)))
+        for b in boxes:
+            inside = any(o != b and o[0] < b[0] and o[1] < b[1] and b[2] < o[2] and b[3] < o[3] for o in boxes)
+            if inside == windows:
+                found.append((tuple(sorted((round(b[2] - b[0], 1), round(b[3] - b[1], 1)))), k))
     return reader, found
 
 
@@ -90,12 +97,15 @@ def test_every_page_is_its_paper_and_every_copy_a_build_needs_is_whole_on_one(ki
     for size, _ in found:
         drawn[size] = drawn.get(size, 0) + 1
     assert drawn == expected
-    # the side cards, worked out here: two a frame, of as many 0.4 mm layers as keep each at most 20 mm deep
+    # the side cards, worked out in test_kit_readback (the article's hollow frame): two a frame, each with its two
+    # windows cut out
     d = paper_cfg.design
-    length = 2 * (max(d.La, d.Lb) + 4e-3)
-    layers = math.ceil(d.m1 / 2 / GRAMMAGE / (length * 0.020))
-    depth = (d.m1 / 2 / GRAMMAGE / layers + math.pi * 1.2e-3**2) / length
-    assert drawn[tuple(sorted((round(length * 1e3, 1), round(depth * 1e3, 1))))] == 2 * paper_cfg.scene.frames * layers
+    length = 2 * (max(d.La, d.Lb) + 4e-3) * 1e3
+    layers, depth, end = hollow_card(d)
+    copies = 2 * paper_cfg.scene.frames * layers
+    assert drawn[tuple(sorted((round(length, 1), round(depth, 1))))] == copies
+    window = tuple(sorted((round(length / 2 - end - 3.0, 1), round(depth - 6.0, 1))))  # hub bar 6 mm, strips 3 mm
+    assert [size for size, _ in sizes_drawn(kit, paper, windows=True)[1]] == [window] * 2 * copies
     for k, page in enumerate(reader.pages):
         boxes = []
         for poly in red_polygons(reader, page):
@@ -103,6 +113,8 @@ def test_every_page_is_its_paper_and_every_copy_a_build_needs_is_whole_on_one(ki
             if len(poly) == 4:
                 boxes.append((min(p[0] for p in poly), min(p[1] for p in poly), max(p[0] for p in poly),
                               max(p[1] for p in poly)))
+        boxes = [b for b in boxes if not any(o != b and o[0] < b[0] and o[1] < b[1] and b[2] < o[2] and b[3] < o[3]
+                                             for o in boxes)]  # the windows lie inside their piece
         # no outline overlaps another: each copy can be cut out whole (a hole's circle is no outline)
         for i, a in enumerate(boxes):
             for b in boxes[i + 1:]:

@@ -227,6 +227,67 @@ def n_layers(card_mm2: float, length_mm: float, max_width_mm: float) -> int:
     return max(1, math.ceil(card_mm2 / (length_mm * max_width_mm) - 1e-9))
 
 
+STRIP, HUB, DEPTH_MAX = 3.0, 6.0, 40.0  # mm: a hollow side card's long strips, its bar across the middle, its depth
+
+
+def ring_polar(H, V, e):
+    """One layer of a hollow side card (mm): (area, polar second moment about the hole), rectangle by rectangle with
+    the parallel-axis rule: the 2H x 2V outline less two windows between the hub bar and the end bars."""
+    def rect(u0, u1, v0, v1):
+        a = (u1 - u0) * (v1 - v0)
+        cu, cv = (u0 + u1) / 2, (v0 + v1) / 2
+        return a, a * (((u1 - u0) ** 2 + (v1 - v0) ** 2) / 12 + cu**2 + cv**2)
+    parts = [rect(-H, H, -V, V), rect(HUB / 2, H - e, -V + STRIP, V - STRIP), rect(-(H - e), -HUB / 2, -V + STRIP,
+                                                                                   V - STRIP)]
+    area = parts[0][0] - parts[1][0] - parts[2][0] - HOLE_AREA
+    return area, parts[0][1] - parts[1][1] - parts[2][1] - math.pi * HOLE_R**4 / 2
+
+
+def hollow_card(d):
+    """(layers, depth, end bar) in mm of the side card the article's frame asks for, worked out here on its own: the
+    fewest layers (1-6) with a card at most 40 mm deep that weighs m1/2 and swings as A13 says about its hole, its end
+    bars at least a strip, its windows holding the stopper skewer (1 mm radius, meeting the 3 mm half hub bar at rest
+    and at the end stop). Scanned finely, then brentq."""
+    from scipy.optimize import brentq
+
+    H = max(d.La, d.Lb) * 1e3 + END
+    half = math.radians(d.stop_angle_deg - d.rest_angle_deg + 15.0) / 2  # each stopper off the line: 15 deg to spare
+    r_pin = (HUB / 2 + SKEWER_R) / math.cos(half)
+    need_u, need_v = r_pin + SKEWER_R, r_pin * math.sin(half) + SKEWER_R
+    a13 = 2 * d.m1 / 3 * (d.La**2 + d.Lb**2 - d.La * d.Lb)  # kg·m², both cards
+    for n in range(1, 7):
+        per_layer = d.m1 / 2 / G * 1e6 / n  # mm²
+        aim = a13 / 2 / (G * n) * 1e12  # mm⁴: one card's inertia over n layers' kg/m²
+
+        def end_bar(V):  # the end bar that gives one layer per_layer of card
+            return H - HUB / 2 - (4 * H * V - HOLE_AREA - per_layer) / 2 / (2 * (V - STRIP))
+
+        def fits(V):
+            e = end_bar(V)
+            return e >= STRIP and H - e > HUB / 2 and H - e >= need_u and V - STRIP >= need_v
+
+        grid = np.linspace(STRIP + need_v, DEPTH_MAX / 2, 2001)
+        gap = [ring_polar(H, V, end_bar(V))[1] - aim if fits(V) else math.nan for V in grid]
+        for (v0, g0), (v1, g1) in zip(zip(grid, gap), zip(grid[1:], gap[1:])):
+            if g0 * g1 <= 0:
+                V = brentq(lambda V: ring_polar(H, V, end_bar(V))[1] - aim, v0, v1, xtol=1e-12)
+                return n, 2 * V, end_bar(V)
+    # none reaches A13 40 mm deep or less: the 40 mm card of the layer count that comes nearest; else flat cards
+    best = None
+    for n in range(1, 7):
+        per_layer = d.m1 / 2 / G * 1e6 / n
+        V = DEPTH_MAX / 2
+        e = H - HUB / 2 - (4 * H * V - HOLE_AREA - per_layer) / 2 / (2 * (V - STRIP))
+        if e >= STRIP and H - e > HUB / 2 and H - e >= need_u and V - STRIP >= need_v:
+            miss = abs(ring_polar(H, V, e)[1] * G * n * 1e-12 - a13 / 2)
+            best = min(best or (miss, n, 2 * V, e), (miss, n, 2 * V, e))
+    if best is not None:
+        return best[1:]
+    card = d.m1 / 2 / G * 1e6
+    n = n_layers(card, 2 * H, FRAME_DEPTH_MAX)
+    return n, (card / n + HOLE_AREA) / (2 * H), None
+
+
 def expected_pieces(cfg) -> dict:
     """Each model-made piece's count, layers, one layer's card (mm², the cut outline less its holes), its outline
     (length x width, mm) and what is added to it (kg), from the config alone."""
@@ -234,8 +295,8 @@ def expected_pieces(cfg) -> dict:
     out = {}
     card = d.m1 / 2 / G * 1e6  # one side card's card over all its layers, mm²
     L = 2 * (max(d.La, d.Lb) * 1e3 + END)
-    n = n_layers(card, L, FRAME_DEPTH_MAX)
-    out["part-frame-side-card"] = dict(count=2 * s.frames, layers=n, card=card / n, outline=(L, (card / n + HOLE_AREA) / L),
+    n, D, e = hollow_card(d)
+    out["part-frame-side-card"] = dict(count=2 * s.frames, layers=n, card=card / n, outline=(L, D), end=e,
                                        added=[], mass=d.m1 / 2)
     legs = (d.notch_back_face + d.notch_front_face) * 1e3
     card = d.handrail_mass / G * 1e6
@@ -356,12 +417,17 @@ def test_every_pieces_card_is_its_drawn_outline_less_its_holes(kit):
             assert p["card_area_m2"] == 0.0 and p["id"] not in svg or not of(svg[p["id"]][1], "rect", "cut")
             continue
         shapes = svg[p["id"]][1]
-        (x, y, w, h), = of(shapes, "rect", "cut")
+        (x, y, w, h), *windows = of(shapes, "rect", "cut")  # the outline, then any window cut out of it
         holes = of(shapes, "circle", "cut")
         for cx, cy, r in holes:
             assert x + r <= cx <= x + w - r and y + r <= cy <= y + h - r, p["id"]  # inside the card
-        area = w * h - sum(math.pi * r * r for *_, r in holes)
-        bound = DRAWN * (w + h) + DRAWN**2 + sum(2 * math.pi * r * DRAWN for *_, r in holes)
+            assert all(not (wx - r < cx < wx + ww + r and wy - r < cy < wy + wh + r) for wx, wy, ww, wh in windows)
+        for wx, wy, ww, wh in windows:  # inside the card, apart from each other
+            assert x < wx and wx + ww < x + w and y < wy and wy + wh < y + h, p["id"]
+        assert all(a[0] + a[2] < b[0] or b[0] + b[2] < a[0] for i, a in enumerate(windows) for b in windows[i + 1:])
+        area = w * h - sum(ww * wh for _, _, ww, wh in windows) - sum(math.pi * r * r for *_, r in holes)
+        bound = (DRAWN * (w + h) + DRAWN**2 + sum(2 * math.pi * r * DRAWN for *_, r in holes)
+                 + sum(DRAWN * (ww + wh) + DRAWN**2 for _, _, ww, wh in windows))
         assert abs(area - p["card_area_m2"] * 1e6) <= bound, (p["id"], area, p["card_area_m2"] * 1e6)
 
 
@@ -378,10 +444,18 @@ def test_the_side_card_its_hole_seat_and_counterbalance_cross(kit):
     want = expected_pieces(cfg)["part-frame-side-card"]
     text, shapes = svg["part-frame-side-card"]
     L, D = want["outline"]
-    (x, y, w, h), = of(shapes, "rect", "cut")
+    (x, y, w, h), *windows = of(shapes, "rect", "cut")
     drawn(w, L), drawn(h, D)
     (cx, cy, r), = of(shapes, "circle", "cut")
     drawn(cx, x + w / 2, 2), drawn(cy, y + h / 2, 2), drawn(r, HOLE_R)  # it balances on its skewer
+    # the article's hollow frame: a window each side of a 6 mm hub bar, 3 mm strips along the edges, the end bars
+    # what makes it weigh m1/2 and swing as A13 says; flat cards where no window fits (too-narrow)
+    e = want["end"]
+    win = None if e is None else L / 2 - e - HUB / 2
+    want_windows = [] if e is None else sorted([(x + e, cy - D / 2 + STRIP, win, D - 2 * STRIP),
+                                                (cx + HUB / 2, cy - D / 2 + STRIP, win, D - 2 * STRIP)])
+    assert len(windows) == len(want_windows)
+    assert np.ravel(sorted(windows)) == pytest.approx(np.ravel(want_windows), abs=2 * DRAWN)
     marks = of(shapes, "line", "mark")
     seat = [ln for ln in marks if ln[0] == ln[2]]
     cross = [ln for ln in marks if ln[0] != ln[2]]
@@ -399,12 +473,24 @@ def test_the_side_card_its_hole_seat_and_counterbalance_cross(kit):
     off = abs(d.h) * 1e3 - D / 2
     off_t, off_v = ((" NOTE: the cross lies <n> mm off the card (|h| > half its depth): glue a scrap of card there to "
                      "hold the counterbalance; the model leaves that scrap out.", ((off, 1),)) if off > 0 else ("", ()))
-    note_t, note_v = narrow("side card", D)
+    if e is not None and off <= 0 and d.La * 1e3 < L / 2 - e and abs(d.h) * 1e3 < D / 2 - STRIP:
+        off_t, off_v = (" NOTE: the cross lies over a window (La < <n> mm from the hole): glue a scrap of card across "
+                        "it to hold the counterbalance; the model leaves that scrap out.", ((L / 2 - e, 1),))
+    if e is None:
+        note_t, note_v = narrow("side card", D)
+        shape_t, shape_v = (" <n> x <n> mm, flat (no window of this design's fits: no hollow card of 1-6 layers at "
+                            "most 40 mm deep weighs design.m1 / 2).", ((L, 1), (D, 1)))
+    else:
+        note_t, note_v = "", ()
+        shape_t = (" <n> x <n> mm, hollow (the article's frame): two windows <n> x <n> mm cut out, leaving strips <n> "
+                   "mm wide along both edges, an end bar <n> mm long at each end and a bar <n> mm wide across the "
+                   "middle with the hole.")
+        shape_v = ((L, 1), (D, 1), (win, 1), (D - 2 * STRIP, 1), (STRIP, 1), (e, 1), (HUB, 1))
     reads(text, f"SWING FRAME SIDE CARD: {plural(2 * s.frames, 'card')} (<n> cuts): 2 per frame, each "
-                f"{layers_text(n)}; <n> x <n> mm. {HOLE_TEXT} (the frame's axis). Black line: the handrail's seat, "
+                f"{layers_text(n)};{shape_t} {HOLE_TEXT} (the frame's axis). Black line: the handrail's seat, "
                 f"Lb = <n> mm from the hole. Black cross: the counterbalance's centre, La = <n> mm along and h = <n> mm "
                 f"across (above the line when the seat is on the left).{off_t}{note_t}",
-          2 * s.frames * n, (L, 1), (D, 1), (d.Lb * 1e3, 1), (d.La * 1e3, 1), (d.h * 1e3, 1, "+"), *off_v, *note_v)
+          2 * s.frames * n, *shape_v, (d.Lb * 1e3, 1), (d.La * 1e3, 1), (d.h * 1e3, 1, "+"), *off_v, *note_v)
 
 
 def test_the_handrail_its_folds_tabs_and_end_view(kit):
@@ -536,7 +622,8 @@ def test_the_leaf_spring_strip_gives_the_stiffness_it_prints(kit):
     # the bending law, n·D·w/L, of the strip as printed (0.1 mm) gives the design's stiffness, the one printed
     assert n * BENDING_D * (w * 1e-3) / (L * 1e-3) == pytest.approx(linear_k(cfg), rel=0.05 / w + 0.05 / L + 1e-9)
     (x, y, rw, rh), = of(shapes, "rect", "cut")
-    printed(f"{rw:.1f}", L + 2 * GLUE_TAB), printed(f"{rh:.1f}", w)  # the strip drawn is the strip printed
+    # the strip drawn (to 0.01 mm) is the strip printed (to 0.1 mm): within half the caption's digit and the drawing's
+    assert abs(rw - (L + 2 * GLUE_TAB)) <= 0.05 + DRAWN + 1e-9 and abs(rh - w) <= 0.05 + DRAWN + 1e-9, (rw, rh, L, w)
     fold_lines = of(shapes, "line", "fold")
     folds = sorted(ln[0] - x for ln in fold_lines)
     assert len(folds) == 2
@@ -574,7 +661,8 @@ def test_the_crossbeams_captions_are_their_drawings_and_the_rows_pitch_and_rise(
     beams = sorted((k for k in svg if k.startswith("part-crossbeam-")), key=lambda k: int(k.rsplit("-", 1)[1]))
     step = math.hypot(s.pitch, s.rise) * 1e3
     beta = math.degrees(math.atan2(s.rise, s.pitch))
-    depth = expected_pieces(cfg)["part-frame-side-card"]["outline"][1]
+    side_card = expected_pieces(cfg)["part-frame-side-card"]
+    depth, hollow = side_card["outline"][1], side_card["end"] is not None
     covered = []
     for i, k in enumerate(beams):
         text, shapes = svg[k]
@@ -585,7 +673,9 @@ def test_the_crossbeams_captions_are_their_drawings_and_the_rows_pitch_and_rise(
                  f"frames {a}-{b}.")
         if i == 0:
             reads(text, first + " Holes Ø<n> mm, the skewers snug: on the beam's line each frame's axis, <n> mm apart "
-                                "(<n> mm pitch, <n> mm rise); beside each, the rest stopper and the end stopper. Black "
+                                "(<n> mm pitch, <n> mm rise); beside each, the rest stopper and the end stopper"
+                                + (" (through the side cards' window, against the hub bar)" if hollow else "")
+                                + ". Black "
                                 "line: the frame line at rest (<n> deg from level), pointing to the counterbalance's "
                                 "side; the crossbeam's line rises <n> deg, so stand it with the line at that angle to "
                                 "the floor.",
@@ -600,25 +690,35 @@ def test_the_crossbeams_captions_are_their_drawings_and_the_rows_pitch_and_rise(
         holes = of(shapes, "circle", "cut")
         assert len(holes) == 3 * (int(b) - int(a) + 1) and all(r == pytest.approx(SKEWER_R) for *_, r in holes)
         covered.append((int(a), int(b)))
-        # the card reaches END past the outermost holes on every side
-        drawn(min(cx - r for cx, _, r in holes) - x, END, 2), drawn(x + w - max(cx + r for cx, _, r in holes), END, 2)
-        drawn(min(cy - r for _, cy, r in holes) - y, END, 2), drawn(y + h - max(cy + r for _, cy, r in holes), END, 2)
-        # each axis (on the beam's line, a step apart) with its rest stopper and its end stopper: a skewer in each
-        # holds a side card La/2 out along the frame line, a half depth and a skewer's radius off it, the rest one on
-        # the counterbalance's lower side at the rest angle, the end one on its upper side at the end stop
+        # the card reaches END past the outermost holes on every side, and as far past each frame-line mark's end
+        ends = [(cx, cy) for cx, cy, _ in holes] + [(x2, y2) for _, _, x2, y2 in of(shapes, "line", "mark")]
+        xs, ys = [px for px, _ in ends], [py for _, py in ends]
+        drawn(min(xs) - SKEWER_R - x, END, 2), drawn(x + w - max(xs) - SKEWER_R, END, 2)
+        drawn(min(ys) - SKEWER_R - y, END, 2), drawn(y + h - max(ys) - SKEWER_R, END, 2)
+        # each axis (on the beam's line, a step apart) with its rest stopper and its end stopper. In the hollow
+        # card's window: each meets the hub bar's edge (3 mm off the axis, a skewer's radius more) on the
+        # counterbalance's side, at (travel + 15 deg)/2 off the frame line, above it at rest and below it at the end
+        # stop. Flat cards: a skewer in each holds a side card La/2 out along the frame line, a half depth and a
+        # skewer's radius off it, the rest one on the counterbalance's lower side, the end one on its upper side
+        if hollow:
+            off_line = math.tan(math.radians(d.stop_angle_deg - d.rest_angle_deg + 15.0) / 2)
+            along_want = HUB / 2 + SKEWER_R
+            across_want = {d.rest_angle_deg: along_want * off_line, d.stop_angle_deg: -along_want * off_line}
+        else:
+            along_want = d.La / 2 * 1e3
+            across_want = {d.rest_angle_deg: -(depth / 2 + SKEWER_R), d.stop_angle_deg: depth / 2 + SKEWER_R}
         axes = holes[0::3]
         assert all(cy == axes[0][1] for _, cy, _ in axes)
         assert all(x1 - x0 == pytest.approx(step, abs=2 * DRAWN) for (x0, _, _), (x1, _, _) in zip(axes, axes[1:]))
         for j, (ax, ay, _) in enumerate(axes):
-            for (cx, cy, _), angle, side in ((holes[3 * j + 1], d.rest_angle_deg, -1), (holes[3 * j + 2],
-                                                                                      d.stop_angle_deg, 1)):
+            for (cx, cy, _), angle in ((holes[3 * j + 1], d.rest_angle_deg), (holes[3 * j + 2], d.stop_angle_deg)):
                 u, v = cx - ax, ay - cy  # along the beam, up from it (the SVG's y runs down)
                 bx = u * math.cos(math.radians(beta)) - v * math.sin(math.radians(beta))  # level, mm
                 by = u * math.sin(math.radians(beta)) + v * math.cos(math.radians(beta))
                 t = math.radians(angle)
                 along, across = bx * math.cos(t) + by * math.sin(t), -bx * math.sin(t) + by * math.cos(t)
-                assert along == pytest.approx(d.La / 2 * 1e3, abs=4 * DRAWN), (k, j, angle)
-                assert across == pytest.approx(side * (depth / 2 + SKEWER_R), abs=4 * DRAWN), (k, j, angle)
+                assert along == pytest.approx(along_want, abs=4 * DRAWN), (k, j, angle)
+                assert across == pytest.approx(across_want[angle], abs=4 * DRAWN), (k, j, angle)
         # each axis's frame-line mark: 12 mm from its axis at the rest angle, in the beam's frame (it rises beta)
         marks = of(shapes, "line", "mark")
         assert len(marks) == int(b) - int(a) + 1
@@ -639,15 +739,21 @@ def test_the_stand_is_drawn_to_the_scale_it_names_and_its_caption_is_in_mm(kit):
     d, s = cfg.design, cfg.scene
     text, shapes = svg["stand"]
     k = int(caption_numbers(r"side view at 1:(\d+) ", text)[0])
+    side_card = expected_pieces(cfg)["part-frame-side-card"]
+    depth, hollow = side_card["outline"][1], side_card["end"] is not None
+    half_a = math.radians(d.stop_angle_deg - d.rest_angle_deg + 15.0) / 2  # a stopper's angle off the frame line
+    pin_r = (HUB / 2 + SKEWER_R) / math.cos(half_a)  # mm: each meets the hub bar's edge (hollow cards)
     # a spring no strip makes is said just above the stand, with no drawing of its own
     no_strip = "" if "part-leaf-spring" in svg else caption_numbers(r"^(LEAF SPRING: no strip of this card fits: .+\.) "
                                                                      r"THE STAND", text)[0] + " "
     reads(text, no_strip + f"THE STAND, side view at 1:{k} (dimensions in mm at full size). {s.frames} skewer axes "
                            f"(black), each <n> mm after the last and <n> mm higher; the first <n> mm above the floor "
-                           f"(gray). Frames (brown) rest at <n> deg on a stopper skewer (blue) under the "
-                           f"counterbalance's side, <n> mm out; a second one stops them at <n> deg.",
+                           f"(gray). Frames (brown) rest at <n> deg on a stopper skewer (blue) "
+                           + ("in the side cards' window, <n> mm from the axis, against the hub bar; a second one "
+                              "beside it stops them at <n> deg." if hollow else
+                              "under the counterbalance's side, <n> mm out; a second one stops them at <n> deg."),
           (s.pitch * 1e3, 1), (s.rise * 1e3, 1, "+"), (s.floor_drop * 1e3, 0), (d.rest_angle_deg, 0),
-          (d.La / 2 * 1e3, 1), (d.stop_angle_deg, 0))
+          (pin_r if hollow else d.La / 2 * 1e3, 1), (d.stop_angle_deg, 0))
     f = 1e3 / k  # m to drawn mm
     axes = sorted((c for c in of(shapes, "circle") if next(a for t, _, xy, a in shapes if xy == c).get("fill")
                    == "black"), key=lambda c: c[0])
@@ -667,11 +773,11 @@ def test_the_stand_is_drawn_to_the_scale_it_names_and_its_caption_is_in_mm(kit):
     assert len(stoppers) == 2 * s.frames
     # every skewer a dot of 1 mm, or less where the scale is smaller (4 mm at full size), so a long row stays legible
     assert {c[2] for c in axes + stoppers} == {round(min(1.0, 4.0 / k), 2)}
-    depth = expected_pieces(cfg)["part-frame-side-card"]["outline"][1]
     for ax, ay, _ in axes:  # at each axis a stopper La/2 out along the frame line at rest, under its card, and one
-        for angle, side in ((d.rest_angle_deg, -1), (d.stop_angle_deg, 1)):  # over it at the end stop
-            t = math.radians(angle)
-            out, off = d.La / 2 * 1e3, side * (depth / 2 + SKEWER_R)
+        for angle, side in ((d.rest_angle_deg, -1), (d.stop_angle_deg, 1)):  # over it at the end stop (flat cards);
+            t = math.radians(angle)  # in the window, pin_r out at half_a off the line, above at rest, below at the end
+            out, off = ((pin_r * math.cos(half_a), -side * pin_r * math.sin(half_a)) if hollow else
+                        (d.La / 2 * 1e3, side * (depth / 2 + SKEWER_R)))
             want = (ax + (out * math.cos(t) - off * math.sin(t)) / k, ay - (out * math.sin(t) + off * math.cos(t)) / k)
             assert any(math.hypot(cx - want[0], cy - want[1]) <= 3 * DRAWN for cx, cy, _ in stoppers), (angle, want)
     # the floor runs from Lb before the first axis to La past the last, under the frames
@@ -897,13 +1003,14 @@ def test_sheet_md_gives_every_part_in_mm_and_g_as_the_config_says(sheet):
     mm(rows["skewer hole to counterbalance (La)"], d.La)
     mm(rows["skewer hole to handrail seat (Lb)"], d.Lb)
     mm(rows["counterbalance offset across the frame line (h)"], d.h)
-    each, both, length, depth, layers = caption_numbers(
-        r"^([0-9.]+) g \(both: ([0-9.]+) g\): ([0-9.]+) mm x ([0-9.]+) mm, (?:one layer|(\d+) layers glued flat)$",
-        rows["its card (m1): two side cards, each of them"])
+    each, both, length, depth, hollow, layers = caption_numbers(
+        r"^([0-9.]+) g \(both: ([0-9.]+) g\): ([0-9.]+) mm x ([0-9.]+) mm, (hollow, )?(?:one layer|(\d+) layers glued "
+        r"flat)$", rows["its card (m1): two side cards, each of them"])
     printed(each, d.m1 / 2 * 1e3, 2), printed(both, d.m1 * 1e3, 2)
     side = pieces["part-frame-side-card"]
     printed(length, side["outline"][0], 1), printed(depth, side["outline"][1], 1)
     assert int(layers or 1) == side["layers"]
+    assert bool(hollow) == (side["end"] is not None)
     rest, stop = caption_numbers(r"^([0-9.]+) deg / ([0-9.]+) deg$",
                                  rows["rest angle (the stopper skewer holds it there) / end stop"])
     printed(rest, d.rest_angle_deg, 1), printed(stop, d.stop_angle_deg, 1)

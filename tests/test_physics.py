@@ -306,8 +306,9 @@ def test_drag_is_negligible_and_only_built_when_asked(paper_cfg, paper_run):
     assert dragged.outcome == "completed"
     # paper: drag makes no noticeable difference. It does make one: over the first swing the dragged frame lags
     # the plain one at every sample past 0.1 s, and by as much as the two-link model with the same drag law
-    # says (same robot of parts, from the same rest; measured 0.90-0.96 of it at 0.3-0.6 s), which is
-    # 0.02-0.17 deg. A drag that does nothing, pushes, or is twice too strong fails here.
+    # says (same robot of parts, from the same rest; measured 0.92-1.18 of it at 0.35-0.6 s, where the lag has grown
+    # past 0.02 deg: before that the robot's own wiggles are a third of it), which is 0.02-0.10 deg. A drag that
+    # does nothing, pushes, or is twice too strong fails here.
     plain, tr = paper_run.trace, dragged.trace
     first = (plain["t"] > 0.1) & (plain["t"] < paper_run.swings[0].t_detach)
     lag = plain["theta1"][first] - np.interp(plain["t"][first], tr["t"], tr["theta1"])
@@ -317,7 +318,7 @@ def test_drag_is_negligible_and_only_built_when_asked(paper_cfg, paper_run):
     d, start = paper_cfg.design, (math.radians(paper_cfg.design.rest_angle_deg), math.radians(81.0))
     a = two_link.simulate(d, *start, until_theta1=math.radians(165), robot="parts")
     b = two_link.simulate(d, *start, until_theta1=math.radians(165), drag=True, robot="parts")
-    for t in (0.3, 0.45, 0.6):
+    for t in (0.35, 0.45, 0.6):
         world_lag = np.interp(t, plain["t"], plain["theta1"]) - np.interp(t, tr["t"], tr["theta1"])
         model_lag = np.interp(t, a.t, a.theta1) - np.interp(t, b.t, b.theta1)
         assert world_lag == pytest.approx(model_lag, rel=0.3), t

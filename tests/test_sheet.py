@@ -312,20 +312,21 @@ def test_the_troubleshooting_table_is_what_the_world_does_at_its_edges(paper_cfg
     sees, on that transfer; a cause "far" out is what the world shows at the value it names. Each part's window
     completes at both edges; its margins are yours less the edges, and "fits" says whether a hand-made toy's
     tolerance (3 % of m3, 15 % of the spring, 2 deg, written out here) fits in both. The stopper's hole moves
-    round its arc by its distance from the axis hole (La/2 along the card, half the card's depth and the skewer's
-    radius off it) per radian."""
+    round its arc by its distance from the axis hole per radian (in the hollow card's window, against the hub
+    bar)."""
     from aero_env.sheet.troubleshoot import table
     from aero_env.simulation import simulate
+
+    from .test_kit_readback import hollow_card
 
     lines = table(paper_cfg)
     split = lines.index("")
     rows = [r for r in lines[2:split]]
     assert rows, lines
     d = paper_cfg.design
-    card = d.m1 / 2 / 0.310
-    length = 2 * (max(d.La, d.Lb) + 4e-3)
-    depth = (card / math.ceil(card / (length * 0.020)) + math.pi * 1.2e-3**2) / length
-    mm_per_deg = math.hypot(d.La / 2, depth / 2 + 1e-3) * 1e3 * math.pi / 180
+    assert hollow_card(d)[2] is not None  # the article's hollow side card (test_kit_readback works it out)
+    # its rest stopper meets the hub bar's edge (3 mm off the axis, a skewer's radius more) at (travel + 15 deg)/2
+    mm_per_deg = 4.0 / math.cos(math.radians(d.stop_angle_deg - d.rest_angle_deg + 15.0) / 2) * math.pi / 180
     kinds = set()
     for row in rows:
         seen, cause, change = (c.strip() for c in row.strip("|").split("|"))

@@ -13,12 +13,16 @@ that the part as drawn weighs what Table 1 says:
 
 - **Swing frame** ("a hollow rectangular shape", the article's Sec. 2): two side cards, the
   skewer through a hole in each, held apart by the handrail at one end and the counterbalance at
-  the other, hollow between them. Each side card is a rectangle of ``layers`` layers of card glued
-  flat, cut symmetric about its hole, so that it balances on the skewer by itself (the paper's
-  frame moment dT is 0; a dT a config names still moves the centre, as before). Its length runs
-  ``END`` past the farther of the seat and the counterbalance; its depth across the frame line is
-  what makes the two cards weigh m1, with the fewest layers that keep it at most
-  ``FRAME_DEPTH_MAX``.
+  the other. Each side card is ``layers`` layers of card glued flat, cut symmetric about its hole,
+  so that it balances on the skewer by itself (the paper's frame moment dT is 0; a dT a config
+  names still moves the centre, as before): a rectangle running ``END`` past the farther of the
+  seat and the counterbalance, hollow, with a window each side of a ``HUB_BAR`` across the middle
+  that carries the hole, ``MIN_STRIP`` strips along both edges and an end bar at each end. Its
+  depth and its end bars are what make the two cards weigh m1 and swing about the skewer as the
+  article's A13 says (:func:`fit_ring`), with the fewest layers that keep it at most
+  ``RING_DEPTH_MAX`` deep; the windows hold the stopper skewers (:func:`stopper_radius`). A design
+  no such card swings as A13 says gets the deepest that comes nearest; one no window fits gets
+  flat cards, as deep as their card makes them, at most ``FRAME_DEPTH_MAX`` a layer.
 - **Handrail**: an L of one card folded along its length, its two legs the notch's faces, bridging
   the side cards ``RAIL_SPAN`` apart, with a glue tab at each end onto the cards' inner faces. The
   tabs are as long as the handrail's mass (0.21 g, Table 1) makes them.
@@ -40,7 +44,9 @@ model's masses: Table 1 does not list it.
 
 from __future__ import annotations
 
+import functools
 import math
+import types
 from typing import Any
 
 import numpy as np
@@ -67,6 +73,10 @@ MIN_TAB = 3.0e-3  # m: the shortest glue tab that holds
 FRAME_DEPTH_MAX = 20.0e-3  # m: a side card's depth across the frame line, at most (then another layer)
 ARM_WIDTH_MAX = 26.0e-3  # m: the arm's width across, at most: it swings between side cards RAIL_SPAN apart
 TORSO_WIDTH_MAX = 26.0e-3  # m: the torso's width in the plane, at most (a coin is 20 mm across)
+HUB_BAR = 6.0e-3  # m: the hollow side card's bar across its middle, the hole in it with 1.8 mm of card each side
+RING_DEPTH_MAX = 40.0e-3  # m: a hollow side card's depth across the frame line, at most (then another layer)
+STOPPER_SPARE_DEG = 15.0  # deg a rest stopper may move lower and still turn in the window (troubleshooting's reach)
+RING_LAYERS_MAX = 6  # layers a hollow side card may have; a design no ring of these fits has flat side cards
 
 
 def laminate(area, length, max_width):
@@ -96,19 +106,155 @@ def side_card_length(d: Design):
     return 2.0 * (np.maximum(d.La, d.Lb) + END)
 
 
+def a13_inertia(d: Design):
+    """The article's frame inertia about its axis, A13: 2·m1/3·(La² + Lb² - La·Lb) (kg·m²). The hollow side cards
+    (:func:`side_card`) are sized to swing so."""
+    return 2.0 * d.m1 / 3.0 * (d.La**2 + d.Lb**2 - d.La * d.Lb)
+
+
+def stopper_radius(d: Design):
+    """m: how far from the axis the two stopper skewers stand, inside the side card's window beside the hub bar. The
+    rest one meets the hub bar's edge at the rest angle, the end one at the end stop, each at ``stopper_angle`` off
+    the frame line, so each turns through the window between (the frame's travel with ``STOPPER_SPARE_DEG`` to spare:
+    the rest stopper may move that much lower and still clear). Infinite where no window holds such stops (a travel
+    and its spare of 178 deg or more)."""
+    a = stopper_angle(d)
+    ok = a < math.radians(89.0)
+    return np.where(ok, (HUB_BAR / 2 + SKEWER_D / 2) / np.cos(np.where(ok, a, 0.0)), np.inf)
+
+
+def stopper_angle(d: Design):
+    """rad: each stopper skewer's angle off the frame line where it meets the hub bar (:func:`stopper_radius`)."""
+    return np.radians(d.stop_angle_deg - d.rest_angle_deg + STOPPER_SPARE_DEG) / 2.0
+
+
+def stopper_reach(d: Design):
+    """(u, v) m: how far along and across the frame line, from the hole, the stopper skewers reach inside the
+    window as the frame turns (:func:`stopper_radius`): the window must hold both."""
+    r = stopper_radius(d)
+    return r + SKEWER_D / 2, np.where(np.isfinite(r), r * np.sin(stopper_angle(d)), np.inf) + SKEWER_D / 2
+
+
+def ring_moments(half_length, half_depth, end, strip=MIN_STRIP, hub=HUB_BAR):
+    """(area m², polar second moment about the hole m⁴) of one layer of a hollow side card: the rectangle
+    2·half_length x 2·half_depth about its hole, less two windows (one each side of a ``hub`` bar across the
+    middle, each ``strip`` inside the long edges and ``end`` inside the card's end) and the hole."""
+    w_l = half_length - end - hub / 2.0  # each window along the frame line
+    w_d = 2.0 * (half_depth - strip)  # and across it
+    c = hub / 2.0 + w_l / 2.0  # its centre's distance from the hole
+    window = w_l * w_d
+    area = 4.0 * half_length * half_depth - 2.0 * window - hole_area()
+    J = (4.0 * half_length * half_depth * (half_length**2 + half_depth**2) / 3.0
+         - 2.0 * (window * (w_l**2 + w_d**2) / 12.0 + window * c**2) - math.pi * (HOLE_D / 2) ** 4 / 2.0)
+    return area, J
+
+
+RING_GRID = 64  # depths tried per layer count before the root is bisected: a fixed grid keeps it deterministic
+
+
+def fit_ring(d: Design):
+    """The hollow side card that weighs m1/2 and swings as A13 says (half of :func:`a13_inertia` about its hole),
+    per design (floats or arrays): ``hollow`` (found), ``layers``, ``half_depth`` and ``end`` (m). The fewest
+    layers (1 to ``RING_LAYERS_MAX``) whose card is at most ``RING_DEPTH_MAX`` deep, its end bars at least a
+    strip long and its windows at least the stopper's (:func:`stopper_reach`); the shallowest such card. Where no
+    card reaches A13 that way, the one ``RING_DEPTH_MAX`` deep whose layer count comes nearest; ``hollow`` is False
+    only where no such card fits at all (then :func:`side_card` cuts flat cards)."""
+    half = np.atleast_1d(np.asarray(side_card_length(d) / 2.0, float))
+    rows = np.arange(len(half))
+    each = np.broadcast_to(np.asarray(d.m1 / 2.0, float), half.shape)
+    target = np.broadcast_to(np.asarray(a13_inertia(d) / 2.0, float), half.shape)
+    reach_u, reach_v = (np.broadcast_to(np.asarray(r, float), half.shape) for r in stopper_reach(d))
+    v_lo = MIN_STRIP + np.minimum(reach_v, RING_DEPTH_MAX)
+    V = v_lo[:, None] + np.linspace(0.0, 1.0, RING_GRID)[None, :] * (RING_DEPTH_MAX / 2 - v_lo[:, None])
+
+    def shape_at(V, layer_area):  # the end bars that make one layer carry layer_area at depth V, and whether they can
+        window = (4.0 * half[:, None] * V - hole_area() - layer_area[:, None]) / 2.0
+        w_l = window / (2.0 * (V - MIN_STRIP))
+        e = half[:, None] - HUB_BAR / 2 - w_l
+        return e, (w_l > 0) & (e >= MIN_STRIP) & (HUB_BAR / 2 + w_l >= reach_u[:, None])
+
+    found = np.zeros(half.shape, bool)
+    layers_out, v_out, e_out = np.ones(half.shape), np.full(half.shape, np.nan), np.full(half.shape, np.nan)
+    for layers in range(1, RING_LAYERS_MAX + 1):
+        layer_area = each / (GRAMMAGE * layers)
+        aim = target / (GRAMMAGE * layers)
+        e, ok = shape_at(V, layer_area)
+        gap = np.where(ok, ring_moments(half[:, None], V, e)[1] - aim[:, None], np.nan)
+        cross = ok[:, :-1] & ok[:, 1:] & (np.sign(gap[:, :-1]) != np.sign(gap[:, 1:]))
+        has = cross.any(axis=1) & ~found
+        if not has.any():
+            continue
+        k = np.argmax(cross, axis=1)
+        lo, hi, g_lo = V[rows, k], V[rows, k + 1], gap[rows, k]
+        for _ in range(60):  # bisection: the gap keeps its sign at lo
+            mid = (lo + hi) / 2.0
+            g = ring_moments(half, mid, shape_at(mid[:, None], layer_area)[0][:, 0])[1] - aim
+            same = np.sign(g) == np.sign(g_lo)
+            lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
+        v_star = (lo + hi) / 2.0
+        layers_out = np.where(has, layers, layers_out)
+        v_out = np.where(has, v_star, v_out)
+        e_out = np.where(has, shape_at(v_star[:, None], layer_area)[0][:, 0], e_out)
+        found |= has
+        if found.all():
+            break
+    # where no card reaches A13 within the depth limit: the card at the limit, of the layer count that comes nearest
+    # (a light, long frame's falls short), so that I1 moves on smoothly past the limit rather than dropping to a
+    # flat card's
+    nearest = np.full(half.shape, np.inf)
+    near = [np.ones(half.shape), np.full(half.shape, np.nan), np.full(half.shape, np.nan)]
+    V_max = np.full((len(half), 1), RING_DEPTH_MAX / 2)
+    for layers in range(1, RING_LAYERS_MAX + 1):
+        e, ok = shape_at(V_max, each / (GRAMMAGE * layers))
+        miss = np.where(ok[:, 0], np.abs(GRAMMAGE * layers * ring_moments(half, V_max[:, 0], e[:, 0])[1] - target),
+                        np.inf)
+        better = miss < nearest
+        nearest = np.where(better, miss, nearest)
+        near = [np.where(better, layers, near[0]), np.where(better, V_max[:, 0], near[1]),
+                np.where(better, e[:, 0], near[2])]
+    use_near = ~found & np.isfinite(nearest)
+    layers_out, v_out, e_out = (np.where(use_near, n, o) for n, o in zip(near, (layers_out, v_out, e_out)))
+    hollow = found | use_near
+    pick = (lambda a: a[0].item()) if np.ndim(side_card_length(d)) == 0 else (lambda a: a)
+    return dict(hollow=pick(hollow), layers=pick(layers_out), half_depth=pick(v_out), end=pick(e_out))
+
+
+@functools.lru_cache(maxsize=4096)
+def _fit_ring_one(La: float, Lb: float, m1: float, rest_angle_deg: float, stop_angle_deg: float) -> dict:
+    """:func:`fit_ring` of one design, kept: a world is built per episode, the same frame over and over."""
+    return fit_ring(types.SimpleNamespace(La=La, Lb=Lb, m1=m1, rest_angle_deg=rest_angle_deg,
+                                          stop_angle_deg=stop_angle_deg))
+
+
 def side_card(d: Design) -> dict:
-    """One of a frame's two side cards: ``half_length`` (hole to each end), ``depth``, ``layers``, ``mass``
-    and ``I_axis`` (about the skewer, which is its centre). Both cards together weigh m1."""
+    """One of a frame's two side cards: ``half_length`` (hole to each end), ``depth``, ``layers``, ``mass``,
+    ``I_axis`` (about the skewer, which is its centre) and, for the article's hollow frame (``hollow``), ``end``
+    (each end bar's length), ``window`` and ``window_depth`` (each of the two windows along and across the frame
+    line, 0 for a flat card), ``strip`` (the long strips' width) and ``hub`` (the bar across the middle). Both
+    cards together weigh m1. Hollow where :func:`fit_ring` finds a card that swings as A13 says; else a flat card
+    of the fewest layers at most ``FRAME_DEPTH_MAX`` deep, as wide as its card makes it."""
     length = side_card_length(d)
     half = length / 2.0
     mass = d.m1 / 2.0
     card = mass / GRAMMAGE  # m² of card over all layers, the hole's card already gone
-    layers, depth_hole = laminate(card, length, FRAME_DEPTH_MAX)
+    flat_layers, _ = laminate(card, length, FRAME_DEPTH_MAX)
     # each layer is length x depth less the hole: solve depth so that it carries card / layers exactly
-    depth = (card / layers + hole_area()) / length
-    sigma = GRAMMAGE * layers  # kg per m² of outline
-    I_axis = sigma * (length * depth * (length**2 + depth**2) / 12.0 - math.pi * (HOLE_D / 2) ** 4 / 2.0)
-    return dict(half_length=half, length=length, depth=depth, layers=layers, mass=mass, I_axis=I_axis)
+    flat_depth = (card / flat_layers + hole_area()) / length
+    flat_I = GRAMMAGE * flat_layers * (length * flat_depth * (length**2 + flat_depth**2) / 12.0
+                                       - math.pi * (HOLE_D / 2) ** 4 / 2.0)
+    ring = fit_ring(d) if np.ndim(length) else _fit_ring_one(float(d.La), float(d.Lb), float(d.m1),
+                                                            float(d.rest_angle_deg), float(d.stop_angle_deg))
+    hollow = ring["hollow"]
+    ring_V = np.where(hollow, ring["half_depth"], flat_depth / 2.0)
+    ring_e = np.where(hollow, ring["end"], half)
+    ring_I = GRAMMAGE * ring["layers"] * ring_moments(half, ring_V, ring_e)[1]
+    pick = (lambda a: np.asarray(a).item()) if np.ndim(length) == 0 else np.asarray
+    window = np.where(hollow, half - ring_e - HUB_BAR / 2, 0.0)
+    return dict(half_length=half, length=length, depth=pick(np.where(hollow, 2.0 * ring_V, flat_depth)),
+                layers=pick(np.where(hollow, ring["layers"], flat_layers)), mass=mass,
+                I_axis=pick(np.where(hollow, ring_I, flat_I)), hollow=pick(hollow), end=pick(ring_e),
+                window=pick(window), window_depth=pick(np.where(hollow, 2.0 * (ring_V - MIN_STRIP), 0.0)),
+                strip=MIN_STRIP, hub=HUB_BAR)
 
 
 def frame_card_inertia(d: Design):

@@ -124,21 +124,39 @@ def side_card(cfg) -> Piece:
     d, frames = cfg.design, cfg.scene.frames
     sc = build.side_card(d)
     n, L, D, half = int(sc["layers"]), sc["length"] * MM, sc["depth"] * MM, sc["half_length"] * MM
+    hollow, end, hub = bool(sc["hollow"]), float(sc["end"]) * MM, sc["hub"] * MM
+    w_l, w_d = float(sc["window"]) * MM, float(sc["window_depth"]) * MM
+    seat, cb, h = half - d.Lb * MM, half + d.La * MM, d.h * MM
     off_card = (f" NOTE: the cross lies {abs(d.h) * MM - D / 2:.1f} mm off the card (|h| > half its depth): glue a "
                 f"scrap of card there to hold the counterbalance; the model leaves that scrap out."
-                if abs(d.h) * MM > D / 2 else "")
-    seat, cb, h = half - d.Lb * MM, half + d.La * MM, d.h * MM
-    shapes = [_rect(0, -D / 2, L, D), _circle(half, 0, HOLE_R),
+                if abs(d.h) * MM > D / 2 else
+                f" NOTE: the cross lies over a window (La < {half - end:.1f} mm from the hole): glue a scrap of card "
+                f"across it to hold the counterbalance; the model leaves that scrap out."
+                if hollow and d.La * MM < half - end - 1e-9 and abs(d.h) * MM < w_d / 2 else "")
+    windows = [_rect(end, -w_d / 2, w_l, w_d), _rect(half + hub / 2, -w_d / 2, w_l, w_d)] if hollow else []
+    shapes = [_rect(0, -D / 2, L, D), *windows, _circle(half, 0, HOLE_R),
               _line(seat, -D / 2, seat, D / 2, "mark"), *_cross(cb, -h)]
-    area = (L * D - math.pi * HOLE_R**2) / MM**2
+    area = (L * D - len(windows) * w_l * w_d - math.pi * HOLE_R**2) / MM**2
+    shape = (f"{L:.1f} x {D:.1f} mm, hollow (the article's frame): two windows {w_l:.1f} x {w_d:.1f} mm cut out, "
+             f"leaving strips {sc['strip'] * MM:.1f} mm wide along both edges, an end bar {end:.1f} mm long at each "
+             f"end and a bar {hub:.1f} mm wide across the middle with the hole."
+             if hollow else f"{L:.1f} x {D:.1f} mm, flat (no window of this design's fits: {no_ring(d)}).")
     return Piece(
         "swing frame side card", "part-frame-side-card", 2 * frames, n, area, (), "design.m1", 2, (),
         (f"SWING FRAME SIDE CARD: {_plural(2 * frames, 'card')} ({2 * frames * n} cuts): 2 per frame, each "
-         f"{_layers_text(n)}; {L:.1f} x {D:.1f} mm.",
+         f"{_layers_text(n)}; {shape}",
          f"{HOLE_TEXT} (the frame's axis). Black line: the handrail's seat, Lb = {d.Lb * MM:.1f} mm from the hole.",
          f"Black cross: the counterbalance's centre, La = {d.La * MM:.1f} mm along and h = {h:+.1f} mm across "
-         f"(above the line when the seat is on the left).{off_card}{_too_narrow('side card', D)}"),
+         f"(above the line when the seat is on the left).{off_card}{'' if hollow else _too_narrow('side card', D)}"),
         tuple(shapes))
+
+
+def no_ring(d) -> str:
+    """Why a design's side cards are flat: the stopper's window needs a travel under 178 deg."""
+    return (f"the frame's travel, {d.stop_angle_deg - d.rest_angle_deg:g} deg, leaves no window the stopper fits"
+            if not math.isfinite(float(build.stopper_reach(d)[0])) else
+            f"no hollow card of 1-{build.RING_LAYERS_MAX} layers at most {build.RING_DEPTH_MAX * MM:.0f} mm deep "
+            f"weighs design.m1 / 2")
 
 
 def handrail(cfg) -> Piece:
@@ -298,16 +316,27 @@ def skewer_lengths(d) -> dict[str, float]:
 
 
 def stopper_offsets(d) -> tuple[tuple[float, float], tuple[float, float]]:
-    """World offsets (m) from a frame's axis of its two stopper skewers' centres: the rest stopper touches the side
-    card's edge below the counterbalance's arm, halfway out, with the frame at its rest angle, and the end stopper
-    the other edge at the end stop. The world's rotary limits are where these skewers hold the card."""
-    depth = float(build.side_card(d)["depth"])
+    """World offsets (m) from a frame's axis of its two stopper skewers' centres, (rest, end). In the hollow card's
+    window (:func:`aero_env.parts.build.stopper_radius`): the rest stopper meets the hub bar's edge with the frame at
+    its rest angle, the end stopper with it at the end stop; each turns through the window between, so no other
+    frame's card comes near it. A flat card's (no window): the rest stopper touches the card's edge below the
+    counterbalance's arm, halfway out, at rest, and the end stopper the other edge at the end stop. The world's rotary
+    limits are where these skewers hold the card."""
+    sc = build.side_card(d)
     out = []
-    for angle_deg, side in ((d.rest_angle_deg, -1.0), (d.stop_angle_deg, 1.0)):
+    for angle_deg, side in ((d.rest_angle_deg, 1.0), (d.stop_angle_deg, -1.0)):
         a = math.radians(angle_deg)
-        s, off = d.La / 2, side * (depth / 2 + build.SKEWER_D / 2)
+        if sc["hollow"]:  # against the hub bar's edge on the counterbalance's side, above the line at rest
+            s = build.HUB_BAR / 2 + build.SKEWER_D / 2
+            off = side * math.sqrt(float(build.stopper_radius(d)) ** 2 - s * s)
+        else:  # against the card's edge, La/2 out: below the line at rest, above it at the end stop
+            s, off = d.La / 2, -side * (float(sc["depth"]) / 2 + build.SKEWER_D / 2)
         out.append((s * math.cos(a) - off * math.sin(a), s * math.sin(a) + off * math.cos(a)))
     return out[0], out[1]
+
+
+FRAME_MARK = 12.0  # mm: the frame line at rest, marked from each axis hole on the crossbeam (the card holds it)
+STOPPERS_IN_WINDOW = " (through the side cards' window, against the hub bar)"
 
 
 def crossbeam_band(cfg) -> dict:
@@ -323,8 +352,10 @@ def crossbeam_band(cfg) -> dict:
         return (w[0] * cb + w[1] * sb) * MM, (-w[0] * sb + w[1] * cb) * MM
 
     rest, stop = (along(w) for w in stopper_offsets(d))
-    vs = [0.0, rest[1], stop[1]]
-    us = [0.0, rest[0], stop[0]]
+    ray = math.radians(d.rest_angle_deg) - beta  # the frame line at rest, in the beam's frame: its mark on the card
+    mark = (FRAME_MARK * math.cos(ray), FRAME_MARK * math.sin(ray))
+    vs = [0.0, rest[1], stop[1], mark[1]]
+    us = [0.0, rest[0], stop[0], mark[0]]
     return dict(beta=beta, step=math.hypot(s.pitch, s.rise) * MM, rest=rest, stop=stop,
                 u_lo=min(us) - build.END * MM - SNUG_R, u_hi=max(us) + build.END * MM + SNUG_R,
                 v_lo=min(vs) - build.END * MM - SNUG_R, v_hi=max(vs) + build.END * MM + SNUG_R)
@@ -342,6 +373,7 @@ def crossbeam_segments(cfg) -> list[Piece]:
     starts = list(range(0, s.frames - 1, per)) or [0]
     segments = []
     ray = math.radians(d.rest_angle_deg) - beta  # the frame line at rest, counterbalance side, in the beam's frame
+    in_window = STOPPERS_IN_WINDOW if build.side_card(d)["hollow"] else ""
     for k, a in enumerate(starts):
         b = min(a + per, s.frames - 1)
         x0 = a * step + u_lo
@@ -354,14 +386,14 @@ def crossbeam_segments(cfg) -> list[Piece]:
             for su, sv in (rest, stop):
                 shapes.append(_circle(ux + su, vy - sv, SNUG_R))
             holes += 3
-            shapes.append(_line(ux, vy, ux + 12 * math.cos(ray), vy - 12 * math.sin(ray), "mark"))
+            shapes.append(_line(ux, vy, ux + FRAME_MARK * math.cos(ray), vy - FRAME_MARK * math.sin(ray), "mark"))
         area = width * height - holes * math.pi * SNUG_R**2
         n = len(starts)
         first = (f"CROSSBEAM{f', SEGMENT {k + 1} of {n}' if n > 1 else ''}: cut 2 (one per side of the row), "
                  f"{_layers_text(CROSSBEAM_LAYERS)}; {width:.1f} x {height:.1f} mm, frames {a}-{b}.")
         rest_text = (f"Holes Ø{2 * SNUG_R:.1f} mm, the skewers snug: on the beam's line each frame's axis, "
                      f"{step:.1f} mm apart ({s.pitch * MM:.1f} mm pitch, {s.rise * MM:+.1f} mm rise); beside each, the "
-                     f"rest stopper and the end stopper. Black line: the frame line at rest "
+                     f"rest stopper and the end stopper{in_window}. Black line: the frame line at rest "
                      f"({d.rest_angle_deg:.0f} deg from level), pointing to the counterbalance's side; the "
                      f"crossbeam's line rises {math.degrees(beta):.1f} deg, so stand it with the line at that angle "
                      f"to the floor.")

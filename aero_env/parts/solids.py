@@ -99,10 +99,14 @@ def frame_parts(d, span: float) -> list[Part3D]:
     sc = build.side_card(d)
     half, depth = float(sc["half_length"]), float(sc["depth"])
     t = float(sc["layers"]) * build.CARD_THICKNESS
+    w_l, w_d, hub = float(sc["window"]), float(sc["window_depth"]), float(sc["hub"])
     hole = rod(0.0, 0.0, build.HOLE_D / 2, -span, span)
     out = []
     for side, z0, z1 in (("near", span / 2, span / 2 + t), ("far", -span / 2 - t, -span / 2)):
         card = box(-half, half, -depth / 2, depth / 2, z0, z1) - hole
+        if sc["hollow"]:  # the article's hollow frame: a window each side of the hub bar
+            for u0 in (hub / 2, -hub / 2 - w_l):
+                card -= box(u0, u0 + w_l, -w_d / 2, w_d / 2, z0 - t, z1 + t)
         out.append(Part3D(f"side card ({side})", card))
     faces = build.notch_faces(d.Lb, math.radians(d.notch_angle_deg), math.radians(d.notch_opening_deg),
                               math.radians(d.rest_angle_deg), d.notch_back_face, d.notch_front_face,

@@ -115,7 +115,7 @@ def lines(cfg: Config) -> list[Line]:
         Line("swing frame", "skewer hole to handrail seat (Lb)", mm(d.Lb)),
         Line("swing frame", "counterbalance offset across the frame line (h)", mm(d.h)),
         Line("swing frame", "its card (m1): two side cards, each of them", f"{grams(d.m1 / 2)} (both: {grams(d.m1)}): "
-             f"{mm(sc['length'])} x {mm(sc['depth'])}, {laminate(side)}"),
+             f"{mm(sc['length'])} x {mm(sc['depth'])}, {'hollow, ' if sc['hollow'] else ''}{laminate(side)}"),
         Line("swing frame", "rest angle (the stopper skewer holds it there) / end stop",
              f"{d.rest_angle_deg:.1f} deg / {d.stop_angle_deg:.1f} deg"),
         Line("counterbalance", "mass at (La, h) (m3)", coins_and_clay(d.m3)),

@@ -20,9 +20,9 @@ from xml.sax.saxutils import escape
 
 from ..config import Config
 from ..parts.build import END as END_M
-from ..parts.build import SKEWER_D, side_card
+from ..parts.build import side_card, stopper_radius
 from ..parts.card import PAPER_CARD, Card
-from ..parts.kit import HOLE_R, Piece, Shape, no_spring, pieces, shapes_extent
+from ..parts.kit import HOLE_R, Piece, Shape, no_spring, pieces, shapes_extent, stopper_offsets
 
 END = END_M * 1e3  # mm
 HOLE = HOLE_R  # mm, the hole radius for a skewer (frames) or the axle (the arm and torso)
@@ -107,8 +107,7 @@ def stand_at(cfg: Config, k: int) -> Part:
     def at(x_m, y_m):  # world (y up) to drawing (y down)
         return x_m * f, -y_m * f
 
-    rest, stop = math.radians(d.rest_angle_deg), math.radians(d.stop_angle_deg)
-    depth = float(side_card(d)["depth"])
+    rest = math.radians(d.rest_angle_deg)
     dot = min(PIN, 4.0 / k)  # markers shrink with the scale, so a long row stays legible
     els, pts = [], []
     for i in range(s.frames):
@@ -118,13 +117,9 @@ def stand_at(cfg: Config, k: int) -> Part:
         b = at(ax + d.La * c, ay + d.La * sn)
         els.append(_line(*a, *b, 'stroke="sienna" stroke-width="0.5"'))
         els.append(_circle(*at(ax, ay), dot, 'fill="black"'))
-        # stopper skewers, on the counterbalance's arm halfway out: under it at rest, over it at the end stop
-        for angle, side in ((rest, -1.0), (stop, 1.0)):
-            r, off = d.La / 2, side * (depth / 2 + SKEWER_D / 2)  # a skewer against the side card's edge
-            px = ax + r * math.cos(angle) - off * math.sin(angle)
-            py = ay + r * math.sin(angle) + off * math.cos(angle)
-            els.append(_circle(*at(px, py), dot, 'fill="none" stroke="blue" stroke-width="0.3"'))
-            pts.append(at(px, py))
+        for ox, oy in stopper_offsets(d):  # the rest and the end stopper skewers, where the crossbeam holds them
+            els.append(_circle(*at(ax + ox, ay + oy), dot, 'fill="none" stroke="blue" stroke-width="0.3"'))
+            pts.append(at(ax + ox, ay + oy))
         pts += [a, b]
     x_first, x_last = -d.Lb, (s.frames - 1) * s.pitch + d.La
     fa = at(x_first, x_first / s.pitch * s.rise - s.floor_drop)
@@ -141,8 +136,11 @@ def stand_at(cfg: Config, k: int) -> Part:
         f"{s.pitch * 1e3:.1f} mm",
         f"after the last and {s.rise * 1e3:+.1f} mm higher; the first {s.floor_drop * 1e3:.0f} mm above the floor "
         f"(gray). Frames (brown) rest at {d.rest_angle_deg:.0f} deg",
-        f"on a stopper skewer (blue) under the counterbalance's side, {d.La * 1e3 / 2:.1f} mm out; a second one stops "
-        f"them at {d.stop_angle_deg:.0f} deg.",
+        (f"on a stopper skewer (blue) in the side cards' window, {float(stopper_radius(d)) * 1e3:.1f} mm from the "
+         f"axis, against the hub bar; a second one beside it stops them at {d.stop_angle_deg:.0f} deg."
+         if side_card(d)["hollow"] else
+         f"on a stopper skewer (blue) under the counterbalance's side, {d.La * 1e3 / 2:.1f} mm out; a second one stops "
+         f"them at {d.stop_angle_deg:.0f} deg."),
     ], els, width, 0.0, height)
 
 

@@ -84,20 +84,35 @@ def _edge(cfg: Config, knob: Knob, direction: int) -> Edge:
         if not ok and outcome and outcome not in seen:
             further.append((at(j), outcome, frame))
             seen.add(outcome)
-    # halve between the last value that completes and the first that does not, to the maker's resolution
+    def steps(v: float) -> float:  # at()'s inverse: how many steps out ``v`` lies
+        if knob.additive is not None:
+            return (v - base) / (direction * knob.additive)
+        return math.log(v / base) / (direction * math.log(knob.factor))
+
     while True:
-        lo, hi = at(good), at(bad)
-        gap = abs(hi - lo) if knob.additive is not None else abs(hi / lo - 1.0)
-        if gap <= knob.resolution or not bad_outcome:
+        # halve between the last value that completes and the first that does not, to the maker's resolution
+        while True:
+            lo, hi = at(good), at(bad)
+            gap = abs(hi - lo) if knob.additive is not None else abs(hi / lo - 1.0)
+            if gap <= knob.resolution or not bad_outcome:
+                break
+            mid = 0.5 * (good + bad)
+            ok, outcome, frame = _completes(cfg, knob.key, at(mid))
+            if ok:
+                good = mid
+            elif outcome:
+                bad, bad_outcome, bad_frame = mid, outcome, frame
+            else:
+                bad = mid
+        # the edge as printed (rounded inwards) must complete too: where the row fails there, between the design and
+        # the edge the walk found (the window has a hole), that is the edge, and the halving goes on inside it
+        printed = _inward(knob, at(good), -direction)
+        if good == 0.0 or not bad_outcome or steps(printed) <= 0.0:
             break
-        mid = 0.5 * (good + bad)
-        ok, outcome, frame = _completes(cfg, knob.key, at(mid))
-        if ok:
-            good = mid
-        elif outcome:
-            bad, bad_outcome, bad_frame = mid, outcome, frame
-        else:
-            bad = mid
+        ok, outcome, frame = _completes(cfg, knob.key, printed)
+        if ok or not outcome:
+            break
+        good, bad, bad_outcome, bad_frame = 0.0, steps(printed), outcome, frame
     return Edge(at(good), bad_outcome, bad_frame, tuple(further))
 
 

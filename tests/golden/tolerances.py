@@ -12,7 +12,7 @@ quantity             measured    tolerance  note
 ===================  ==========  =========  ==============================================
 t_catch, t_detach    1.5 ms      5 ms       3 steps; the tolerance 10 steps
 swing_duration       1.0 ms      4 ms
-sim_time             3.5 ms      5 ms       the last catch's time plus its hold (see below)
+sim_time             3.5 ms      50 ms      the last catch's time plus its hold; 24 ms now (see below)
 theta1_catch_deg     0.032 deg   0.15 deg   the waiting frame sits at its rest angle
 theta1_detach_deg    0.28 deg    1.0 deg
 alpha_detach_deg     0.26 deg    1.0 deg
@@ -46,6 +46,13 @@ The parts rebuilt to the kit (aero_env/parts) moved the record; measured again o
 moved lands the hook 73-92 % deeper than the record's 0.207 mm, so the deepest landing is now an absolute
 tolerance of 0.4 mm, and a depth 40 % larger is no longer told from a last-bit change.
 
+The side cards built as the article's hollow frame (A13's inertia, 66.9 g·cm² against the flat cards' 42.7)
+moved the record again; measured on 180 nudged runs (the same 15 inputs x 12 nudges, /work/notes/golden_nudges.py
+in the session that made the change): 61 runs move an event, and 55 of them end the run 24 ms later (the last
+catch a swing's bounce later), outside sim_time's 5 ms; every other whole-run quantity stays inside (energy.final
+0.44 %, max_rise 3.4e-8 J, drift 10.9 %, overshoot 0.25 deg, depth 0.09 mm). sim_time's tolerance is now 50 ms,
+about twice that, and a physical change it alone must catch is a last catch 100 ms later.
+
 Event flips (the 140 runs of the earlier robot): in 41 of the 140 runs a catch or a detach moved by steps, and sim_time with it: by -3.5 ms in 26,
 +1 ms in 9, -13 ms in 6 (those 6 are outside sim_time's 5 ms). All 41 also move single swings past the
 per-swing tolerances above (robot_speed_catch up to 0.048 m/s, theta2_catch_deg up to 7 deg, t_catch up to
@@ -78,8 +85,9 @@ SWING = {
 # whole-run quantity: (absolute, relative) tolerance; either suffices. Each about 2-3x the largest departure of 140
 # last-bit nudged runs (the table above), on the quantity's own scale.
 RUN = {
-    # s, on the event grid: a catch a step or two earlier (measured 3.5 ms); a 5 ms shift is a whole run's events
-    "sim_time": (0.005, 0.0),
+    # s, on the event grid: with the hollow side cards a last-bit change that moves an event ends the run 24 ms later
+    # (55 of 180 nudged runs; 3.5 ms before), so about twice that
+    "sim_time": (0.05, 0.0),
     # the start's state alone, no event before it (measured 6e-13 relative)
     "energy.initial": (0.0, 1e-9),
     # what seven catches and the frictions leave of 0.024 J (measured 0.71 %); 5 % more or less is physics
@@ -97,7 +105,7 @@ RUN = {
     # 0.40 mm deep (measured 0.19 mm more, in every one of the 61 of 180 runs with an event flip): absolute, about 2x
     "health.penetration": (4e-4, 0.0),
 }
-TRACE_ROW_SECONDS = 0.005  # the trace's length may differ by sim_time's tolerance, in rows
+TRACE_ROW_SECONDS = RUN["sim_time"][0]  # the trace's length may differ by sim_time's tolerance, in rows
 
 
 def _get(record: dict, dotted: str):
