@@ -15,9 +15,11 @@ along z and a positive turn about +z is the world's positive angle: a frame turn
   hook), each posed by the world's torso and arm angles (:func:`robot_poses`).
 - ``stand``: the crossbeams, the skewers (axes and stoppers), the uprights and the base, in world coordinates.
 
-**The layout** (:class:`Layout`) says where each frame's parts sit across the row. ``identical`` is the kit as
-it was first drawn: every frame's side cards ``RAIL_SPAN`` apart in the same two planes, each stopper skewer
-through the whole stand from crossbeam to crossbeam.
+**The layout** (:class:`aero_env.parts.layout.RowLayout`) says where each frame's parts sit across the row.
+:func:`identical_layout` is the kit as drawn: every frame's side cards ``RAIL_SPAN`` apart in the same two planes.
+:func:`aero_env.parts.layout.nested_layout` is the layout that clears: narrow and wide frames alternating, the
+cards a neighbour's part crosses cut away. Every skewer spans the stand, from crossbeam to crossbeam, and the
+crossbeams stand clear of every frame's parts.
 
 Not yet stood up (issue 49, items 4-5): the handrail's glue tabs (they lie flat on their own side card's inner
 face), the arm's card stops and the spring strip, and the robot's joint as built: here the arm is the plate the
@@ -34,7 +36,9 @@ import manifold3d as m3
 import numpy as np
 
 from . import build
-from .kit import CROSSBEAM_GAP, CROSSBEAM_LAYERS, UPRIGHT_WIDTH, crossbeam_band, skewer_lengths, stopper_offsets
+from .kit import (CROSSBEAM_GAP, CROSSBEAM_LAYERS, SKEWER_PROUD, UPRIGHT_WIDTH, crossbeam_band, skewer_lengths,
+                  stopper_offsets)
+from .layout import GAP, FrameKind, RowLayout, hollow_outline
 
 MM = 1e-3  # m per mm: the kit's crossbeam lay-out is in mm
 SEGMENTS = 32  # a round part's sides: a skewer, a coin (the polygon sits inside the circle)
@@ -48,17 +52,12 @@ class Part3D:
     solid: m3.Manifold
 
 
-@dataclass(frozen=True)
-class Layout:
-    """Where each frame's parts sit across the row: ``spans[i]`` (m) is frame i's side cards' inner faces apart
-    (the card pair centred on z = 0). Every stopper skewer spans the stand, from crossbeam to crossbeam."""
-    name: str
-    spans: tuple[float, ...]
-
-
-def identical_layout(cfg) -> Layout:
-    """The kit as first drawn (stop 55 and before): every frame alike, its cards in the same two planes."""
-    return Layout("identical", (build.RAIL_SPAN,) * cfg.scene.frames)
+def identical_layout(cfg) -> RowLayout:
+    """The kit as drawn: every frame alike, its hollow side cards ``RAIL_SPAN`` apart in the same two planes, its
+    counterbalance between them."""
+    sc = build.side_card(cfg.design)
+    kind = FrameKind("identical", build.RAIL_SPAN, hollow_outline(sc), None, False, int(sc["layers"]))
+    return RowLayout("identical", (kind,) * cfg.scene.frames, True, "")
 
 
 # ---- primitives -------------------------------------------------------------------------------------------------
@@ -93,46 +92,48 @@ def placed(solid: m3.Manifold, matrix: np.ndarray) -> m3.Manifold:
 
 
 # ---- a swing frame ------------------------------------------------------------------------------------------------
-def frame_parts(d, span: float) -> list[Part3D]:
-    """A swing frame's parts in its own coordinates: the two side cards (each with its skewer hole), the handrail
-    L between them, the counterbalance's coins and clay. ``span``: the cards' inner faces apart."""
-    sc = build.side_card(d)
-    half, depth = float(sc["half_length"]), float(sc["depth"])
-    t = float(sc["layers"]) * build.CARD_THICKNESS
-    w_l, w_d, hub = float(sc["window"]), float(sc["window_depth"]), float(sc["hub"])
-    hole = rod(0.0, 0.0, build.HOLE_D / 2, -span, span)
+def frame_parts(d, kind: FrameKind) -> list[Part3D]:
+    """A swing frame's parts in its own coordinates: the two side cards (``kind.outline``, hole included), the
+    handrail L between them, the counterbalance's coins and clay (:func:`counterbalance_parts`)."""
+    t = kind.layers * build.CARD_THICKNESS
+    span = kind.span
+    card = kind.outline.scale((MM, MM))  # the outline's mm to m
     out = []
-    for side, z0, z1 in (("near", span / 2, span / 2 + t), ("far", -span / 2 - t, -span / 2)):
-        card = box(-half, half, -depth / 2, depth / 2, z0, z1) - hole
-        if sc["hollow"]:  # the article's hollow frame: a window each side of the hub bar
-            for u0 in (hub / 2, -hub / 2 - w_l):
-                card -= box(u0, u0 + w_l, -w_d / 2, w_d / 2, z0 - t, z1 + t)
-        out.append(Part3D(f"side card ({side})", card))
+    for side, z0 in (("near", span / 2), ("far", -span / 2 - t)):
+        out.append(Part3D(f"side card ({side})", m3.Manifold.extrude(card, t).translate((0.0, 0.0, z0))))
     faces = build.notch_faces(d.Lb, math.radians(d.notch_angle_deg), math.radians(d.notch_opening_deg),
                               math.radians(d.rest_angle_deg), d.notch_back_face, d.notch_front_face,
                               d.handrail_thickness / 2 + d.hook_radius)
     rail = m3.Manifold.batch_boolean([slab(a, b, d.handrail_thickness, -span / 2, span / 2) for a, b in faces],
                                      m3.OpType.Add)
     out.append(Part3D("handrail", rail))
-    out += counterbalance_parts(d, span)
+    out += counterbalance_parts(d, span + 2 * t if kind.coins_outside else None)
     return out
 
 
-def counterbalance_parts(d, span: float) -> list[Part3D]:
-    """The counterbalance's whole coins as one stack along the axis, centred between the cards on (La, h), and
-    its clay as a disc of the coins' size beside the stack."""
+def counterbalance_parts(d, outer: float | None) -> list[Part3D]:
+    """The counterbalance's whole coins and its clay (a disc of the coins' size) on (La, h): one stack centred
+    between the cards (``outer`` None), or, with the cards' outer faces ``outer`` apart, half the coins on each
+    outer face and the clay on the far one's coins."""
     load = build.counterbalance_load(d.m3)
     coins, clay = int(load["coins"]), float(load["clay"])
-    r = build.YEN_COIN_RADIUS
-    stack = coins * build.YEN_COIN_THICKNESS
+    r, c = build.YEN_COIN_RADIUS, build.YEN_COIN_THICKNESS
     clay_height = clay / build.CLAY_DENSITY / (math.pi * r**2)
-    z0 = -(stack + clay_height) / 2
+    if outer is None:
+        z0 = -(coins * c + clay_height) / 2
+        stacks = [("", coins, z0, +1.0)]
+    else:
+        stacks = [(" (near)", (coins + 1) // 2, outer / 2, +1.0), (" (far)", coins // 2, -outer / 2, -1.0)]
     out = []
-    if coins:
-        out.append(Part3D(f"counterbalance coins ({coins})", rod(d.La, d.h, r, z0, z0 + stack)))
+    for where, n, z0, way in stacks:
+        if n:
+            z1 = z0 + way * n * c
+            out.append(Part3D(f"counterbalance coins{where} ({n})", rod(d.La, d.h, r, min(z0, z1), max(z0, z1))))
     if clay > 0:
-        out.append(Part3D(f"counterbalance clay ({clay * 1e3:.1f} g)", rod(d.La, d.h, r, z0 + stack,
-                                                                         z0 + stack + clay_height)))
+        where, n, z0, way = stacks[-1]
+        z0 = z0 + way * n * c
+        z1 = z0 + way * clay_height
+        out.append(Part3D(f"counterbalance clay ({clay * 1e3:.1f} g)", rod(d.La, d.h, r, min(z0, z1), max(z0, z1))))
     return out
 
 
@@ -142,13 +143,13 @@ def frame_pose(axis, theta) -> np.ndarray:
 
 
 # ---- the stand ----------------------------------------------------------------------------------------------------
-def stand_parts(cfg, layout: Layout) -> list[Part3D]:
+def stand_parts(cfg, layout: RowLayout) -> list[Part3D]:
     """The stand in world coordinates: two crossbeams (the kit's band, along the incline), every axis and stopper
     skewer from crossbeam to crossbeam, the two uprights under the first and last axis on each side, the base."""
     d, s = cfg.design, cfg.scene
     band = crossbeam_band(cfg)
     t_beam = CROSSBEAM_LAYERS * build.CARD_THICKNESS
-    inner = CROSSBEAM_GAP / 2
+    inner = max(CROSSBEAM_GAP / 2, reach_across(d, layout) + GAP)  # the crossbeams clear every frame's parts
     z_out = inner + t_beam
     beam_length = ((s.frames - 1) * band["step"] + band["u_hi"] - band["u_lo"]) * MM
     out = []
@@ -157,12 +158,12 @@ def stand_parts(cfg, layout: Layout) -> list[Part3D]:
         out.append(Part3D(f"crossbeam ({side})", beam.rotate((0.0, 0.0, math.degrees(band["beta"])))))
     rest, stop = stopper_offsets(d)
     lengths = skewer_lengths(d)
+    half = max(lengths["axis"] / 2, z_out + SKEWER_PROUD)  # each skewer as proud of the crossbeams as the kit's
     r = build.SKEWER_D / 2
     for i in range(s.frames):
         ax, ay = i * s.pitch, i * s.rise
-        out.append(Part3D(f"axis skewer {i}", rod(ax, ay, r, -lengths["axis"] / 2, lengths["axis"] / 2)))
+        out.append(Part3D(f"axis skewer {i}", rod(ax, ay, r, -half, half)))
         for what, (ox, oy) in (("rest", rest), ("end", stop)):
-            half = lengths["stopper"] / 2
             out.append(Part3D(f"{what} stopper skewer {i}", rod(ax + ox, ay + oy, r, -half, half)))
     floor = -s.floor_drop  # the base's top, under frame 0's axis
     w = UPRIGHT_WIDTH * MM
@@ -211,7 +212,7 @@ def robot_poses(axle, torso_angle, arm_angle) -> tuple[np.ndarray, np.ndarray]:
 class Assembly:
     """The row's solids: ``frames[i]`` in frame i's coordinates, its axis at ``axes[i]``; the stand in the
     world's; the torso's and the arm's parts in their own. ``rest`` and ``stop`` are the frames' angles (rad)."""
-    layout: Layout
+    layout: RowLayout
     axes: tuple[tuple[float, float], ...]
     rest: float
     stop: float
@@ -221,13 +222,25 @@ class Assembly:
     arm: tuple[Part3D, ...]
 
 
-def assembly(cfg, layout: Layout | None = None) -> Assembly:
-    """Every part of ``cfg``'s row as a closed solid, in ``layout`` (default: :func:`identical_layout`)."""
+def reach_across(d, layout: RowLayout) -> float:
+    """m: how far from the row's middle plane any frame's part reaches across (its cards' outer faces, its coins)."""
+    load = build.counterbalance_load(d.m3)
+    r = build.YEN_COIN_RADIUS
+    stack = ((int(load["coins"]) + 1) // 2) * build.YEN_COIN_THICKNESS
+    stack = max(stack, (int(load["coins"]) // 2) * build.YEN_COIN_THICKNESS
+                + float(load["clay"]) / build.CLAY_DENSITY / (math.pi * r**2))
+    return max(k.span / 2 + k.layers * build.CARD_THICKNESS + (stack if k.coins_outside else 0.0)
+               for k in layout.kinds)
+
+
+def assembly(cfg, layout: RowLayout | None = None) -> Assembly:
+    """Every part of ``cfg``'s row as a closed solid, in ``layout`` (default: :func:`identical_layout`, the kit as
+    drawn; :func:`aero_env.parts.layout.nested_layout` is the layout that clears)."""
     d, s = cfg.design, cfg.scene
     layout = layout or identical_layout(cfg)
-    if len(layout.spans) != s.frames:
-        raise ValueError(f"layout {layout.name!r}: {len(layout.spans)} spans for {s.frames} frames")
-    frames = tuple(tuple(frame_parts(d, span)) for span in layout.spans)
+    if len(layout.kinds) != s.frames:
+        raise ValueError(f"layout {layout.name!r}: {len(layout.kinds)} frames for {s.frames}")
+    frames = tuple(tuple(frame_parts(d, kind)) for kind in layout.kinds)
     return Assembly(layout, tuple((i * s.pitch, i * s.rise) for i in range(s.frames)),
                     math.radians(d.rest_angle_deg), math.radians(d.stop_angle_deg), frames,
                     tuple(stand_parts(cfg, layout)), tuple(torso_parts(d)), tuple(arm_parts(d)))

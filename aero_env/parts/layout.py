@@ -1,0 +1,277 @@
+"""Where each frame's parts sit across the row, so that neighbours clear each other as they swing (issue 49 §2).
+
+The world is 2D: every frame swings in one plane. The toy is not, and frames drawn alike, their side cards in the
+same two planes, run into each other (docs/make-your-own.md, *The toy in 3D*). This module chooses where each
+frame's parts go across the row and cuts the cards where a neighbour's part still passes:
+
+- **Nested frames.** Frames alternate. Even frames (0, 2, ...) are *narrow*: their side cards' inner faces
+  ``RAIL_SPAN`` apart, as the robot needs. Odd frames are *wide*: their cards ``GAP`` outside the narrow cards'
+  outer faces. So no card meets a neighbour's card, and what lies between a narrow frame's cards (its handrail,
+  its counterbalance) never reaches a wide frame's. The wide frames' counterbalance goes outside, half on each
+  card's outer face, where no other card is.
+- **What still crosses a card's plane**: the wide frames' handrails (each an L spanning its wide frame, so through
+  the narrow cards' planes) and every skewer (the axes and the stoppers run from crossbeam to crossbeam).
+- **Cut-away cards.** A card is cut away where those parts sweep: each neighbour turning from rest to its end stop
+  with this frame at rest and at its end stop, and this frame turning with the neighbour at rest and at its end
+  stop (the static sweep's cases, :mod:`aero_env.parts.clearance`), ``CLEAR`` clear of them. Slivers narrower than
+  scissors cut go, and what stays joined to the hole is the card. Its free extents (how deep it runs below the
+  frame line and above it, its end bars, its strips' widths, a cap over the hub, how far the end bars drop) are
+  then fitted so that the card weighs, balances and swings as the hollow card does (:func:`build.side_card`, A13):
+  the world swings every frame alike. A card no part crosses stays the hollow card.
+
+Outlines are manifold3d ``CrossSection``s in mm, in the card's own coordinates (the hole at the origin, u along the
+frame line towards the counterbalance, v across it); :func:`moments` gives their mass properties by Green's
+theorem. :func:`row_layout` is the one home of the layout: the 3D solids read it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import manifold3d as m3
+import numpy as np
+from scipy.optimize import minimize
+
+from . import build
+
+CS = m3.CrossSection
+MM = 1e3
+GAP = 1.0e-3  # m: a narrow card's outer face to the wide card beside it
+CLEAR = 1.0  # mm: the least room a cut-away card keeps from a neighbour's part as it sweeps
+SLIVER = 1.4  # mm: half the narrowest strip kept (a strip under 2.8 mm is dropped: scissors cut 3 mm cleanly)
+SWEEP_STEP_DEG = 1.0  # the sweeps' step; consecutive poses are joined by their hull
+ROUND = 48  # sides of a hole or a skewer's circle
+TOUCH_AREA = 0.05  # mm²: a card sharing less with what it keeps out of only touches it (0.06 mm³ for 3 layers)
+FIT_MASS, FIT_CENTRE_MM = 1e-4, 0.01  # a fit holds when mass and inertia are within 1e-4 and the centre 0.01 mm
+
+
+def rect(u0: float, u1: float, v0: float, v1: float) -> m3.CrossSection:
+    return CS.square((u1 - u0, v1 - v0)).translate((u0, v0))
+
+
+def disc(u: float, v: float, r: float, segments: int = ROUND) -> m3.CrossSection:
+    return CS.circle(r, segments).translate((u, v))
+
+
+def moments(outline: m3.CrossSection) -> tuple[float, float, float, float]:
+    """(area mm², ∫u, ∫v mm³, ∫(u² + v²) mm⁴) over the outline, by Green's theorem over its polygons (holes
+    wind the other way and subtract themselves)."""
+    area = su = sv = j = 0.0
+    for poly in outline.to_polygons():
+        p = np.asarray(poly, float)
+        x, y = p[:, 0], p[:, 1]
+        x1, y1 = np.roll(x, -1), np.roll(y, -1)
+        c = x * y1 - x1 * y
+        area += c.sum() / 2
+        su += ((x + x1) * c).sum() / 6
+        sv += ((y + y1) * c).sum() / 6
+        j += ((x * x + x * x1 + x1 * x1 + y * y + y * y1 + y1 * y1) * c).sum() / 12
+    return area, su, sv, j
+
+
+def hollow_outline(sc: dict) -> m3.CrossSection:
+    """The hollow side card (:func:`build.side_card`) as an outline, hole included."""
+    half, depth = float(sc["half_length"]) * MM, float(sc["depth"]) * MM
+    out = rect(-half, half, -depth / 2, depth / 2)
+    if sc["hollow"]:
+        w_l, w_d, hub = float(sc["window"]) * MM, float(sc["window_depth"]) * MM, float(sc["hub"]) * MM
+        out = out - rect(hub / 2, hub / 2 + w_l, -w_d / 2, w_d / 2) - rect(-hub / 2 - w_l, -hub / 2, -w_d / 2, w_d / 2)
+    return out - disc(0.0, 0.0, build.HOLE_D * MM / 2, 256)
+
+
+def handrail_footprint(d) -> m3.CrossSection:
+    """The handrail L's two faces in its frame's coordinates (mm), as the world and the solids place them."""
+    faces = build.notch_faces(d.Lb * MM, math.radians(d.notch_angle_deg), math.radians(d.notch_opening_deg),
+                              math.radians(d.rest_angle_deg), d.notch_back_face * MM, d.notch_front_face * MM,
+                              (d.handrail_thickness / 2 + d.hook_radius) * MM)
+    t = d.handrail_thickness * MM
+    legs = [CS.square((math.hypot(bx - ax, by - ay), t)).translate((0.0, -t / 2))
+            .rotate(math.degrees(math.atan2(by - ay, bx - ax))).translate((ax, ay)) for (ax, ay), (bx, by) in faces]
+    return CS.batch_boolean(legs, m3.OpType.Add)
+
+
+def skewer_footprints(d) -> list[m3.CrossSection]:
+    """A frame's axis skewer and its two stopper skewers, about its axis (mm): they stand still in the world."""
+    from .kit import stopper_offsets  # the kit places the stoppers; it reads this module only through solids
+
+    r = build.SKEWER_D * MM / 2
+    return [disc(0.0, 0.0, r)] + [disc(ox * MM, oy * MM, r) for ox, oy in stopper_offsets(d)]
+
+
+def _angles(d) -> list[float]:
+    n = max(1, math.ceil((d.stop_angle_deg - d.rest_angle_deg) / SWEEP_STEP_DEG - 1e-9))
+    return [float(a) for a in np.linspace(d.rest_angle_deg, d.stop_angle_deg, n + 1)]
+
+
+def _swept(poses: list[m3.CrossSection]) -> m3.CrossSection:
+    if len(poses) == 1:
+        return poses[0]
+    return CS.batch_boolean([CS.batch_hull([p, q]) for p, q in zip(poses, poses[1:])], m3.OpType.Add)
+
+
+def forbidden(cfg, turning_parts: list[m3.CrossSection], still_parts: list[m3.CrossSection]) -> m3.CrossSection:
+    """Where a card may not go, in its own coordinates (mm), ``CLEAR`` wide: ``turning_parts`` of the neighbours one
+    axis step either side (in their frame's coordinates) as they and this frame sweep, ``still_parts`` of the
+    neighbours (about their axis, in the world's orientation: skewers) as this frame turns."""
+    d, s = cfg.design, cfg.scene
+    thetas = _angles(d)
+    regions = []
+    for ax, ay in ((-s.pitch * MM, -s.rise * MM), (s.pitch * MM, s.rise * MM)):
+        for part in turning_parts:
+            def local(th_other: float, th_self: float) -> m3.CrossSection:
+                return part.rotate(th_other).translate((ax, ay)).rotate(-th_self)
+            for fixed in (d.rest_angle_deg, d.stop_angle_deg):
+                regions.append(_swept([local(t, fixed) for t in thetas]))  # the neighbour turns, this one waits
+                regions.append(_swept([local(fixed, t) for t in thetas]))  # this one turns, the neighbour waits
+        for part in still_parts:
+            regions.append(_swept([part.translate((ax, ay)).rotate(-t) for t in thetas]))
+    if not regions:
+        return CS()
+    return CS.batch_boolean(regions, m3.OpType.Add).offset(CLEAR, m3.JoinType.Round, circular_segments=ROUND)
+
+
+# ---- the cut-away card, fitted ---------------------------------------------------------------------------------
+PARAMS = ("below", "above", "end_back", "end_front", "strip_back", "strip_front", "cap", "drop")
+
+
+def cut_card(sc: dict, p, keep_out: m3.CrossSection, pins: float) -> m3.CrossSection:
+    """A card of the hollow card's length with free extents ``p`` (mm, in the order of ``PARAMS``): the frame line
+    to its lower edge and to its upper edge, each end bar's length (seat side, counterbalance side), each lower
+    strip's width, the half-width of a cap over the hub, how far the end bars reach below the lower edge. Its
+    windows always reach ``pins`` (mm) either side of the frame line, where its own stopper skewers turn, and the
+    cap sits beyond them. Less ``keep_out``, slivers under ``2·SLIVER`` dropped, only what is joined to the hole
+    kept."""
+    below, above, end_b, end_f, strip_b, strip_f, cap, drop = (float(x) for x in p)
+    half, hub, top = float(sc["half_length"]) * MM, float(sc["hub"]) * MM, build.MIN_STRIP * MM
+    low = min(-below + strip_f, -pins)  # the counterbalance side's window holds the stoppers' sweep
+    card = (rect(-half, half, -below, above) + rect(-half, -half + end_b, -below - drop, 0.0)
+            + rect(half - end_f, half, -below - drop, 0.0)
+            - rect(-half + end_b, -hub / 2, -below + strip_b, above - top)
+            - rect(hub / 2, half - end_f, low, max(above - top, pins))
+            + rect(-max(cap, hub / 2), max(cap, hub / 2), pins, max(above, pins)))
+    card = (card - keep_out).offset(-SLIVER, m3.JoinType.Round, circular_segments=ROUND).offset(
+        SLIVER, m3.JoinType.Round, circular_segments=ROUND)
+    r = build.HOLE_D * MM / 2
+    around = disc(0.0, 0.0, r + 2.0) - disc(0.0, 0.0, r)
+    joined = [piece for piece in card.decompose() if (piece ^ around).area() > 0]
+    return (CS.batch_boolean(joined, m3.OpType.Add) if joined else CS()) - disc(0.0, 0.0, r, 256)
+
+
+def _misfit(sc: dict, card: m3.CrossSection) -> np.ndarray:
+    """(mass, inertia about the hole) relative to the hollow card's, and the centre (u, v) in 10 mm, of one card."""
+    area, su, sv, j = moments(card)
+    if area <= 0:
+        return np.full(4, 1e3)
+    sigma = build.GRAMMAGE * float(sc["layers"])
+    return np.array([(sigma * area * 1e-6 - sc["mass"]) / sc["mass"], (sigma * j * 1e-12 - sc["I_axis"]) / sc["I_axis"],
+                     su / area / 10.0, sv / area / 10.0])
+
+
+def _fits(misfit: np.ndarray) -> bool:
+    return bool(np.all(np.abs(misfit[:2]) <= FIT_MASS) and np.all(np.abs(misfit[2:]) * 10.0 <= FIT_CENTRE_MM))
+
+
+def fit_cut_card(sc: dict, keep_out: m3.CrossSection, pins: float) -> tuple[np.ndarray | None, np.ndarray]:
+    """The extents (``PARAMS``, mm) whose :func:`cut_card` weighs, balances and swings as the hollow card, or None,
+    and the last misfit. Nelder-Mead from a few fixed starts (deterministic), the first that fits wins."""
+    half, V, e = float(sc["half_length"]) * MM, float(sc["depth"]) * MM / 2, float(sc["end"]) * MM
+    strip = build.MIN_STRIP * MM
+    lo = np.array([pins + strip, pins + strip, strip, strip, strip, strip, 0.0, 0.0])
+    hi = np.array([60.0, 60.0, half - 5.0, half - 5.0, 20.0, 20.0, 30.0, 40.0])
+
+    def misfit(p):
+        return _misfit(sc, cut_card(sc, np.clip(p, lo, hi), keep_out, pins))
+
+    starts = ([V, V, e, e, strip, strip, 3.0, 0.0], [pins + strip + 1, V, e, e, strip, strip, 4.0, 0.5 * V],
+              [V, V, 0.8 * e, 0.8 * e, strip, strip, 9.0, 0.6 * V])
+    last = misfit(starts[0])
+    for start in starts:
+        run = minimize(lambda p: float(np.sum(misfit(p) ** 2)), np.array(start), method="Nelder-Mead",
+                       options=dict(maxiter=3000, xatol=1e-7, fatol=1e-16, adaptive=True))
+        p = np.clip(run.x, lo, hi)
+        last = misfit(p)
+        if _fits(last):
+            return p, last
+    return None, last
+
+
+# ---- the row ----------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class FrameKind:
+    """One kind of frame: ``name`` narrow or wide; ``span`` (m) its side cards' inner faces apart; ``outline`` (mm)
+    its side card, of ``layers`` layers; ``extents`` the fitted :data:`PARAMS` of a cut-away card (None: the hollow
+    card as it is); ``coins_outside``: its counterbalance on its cards' outer faces (else between them)."""
+    name: str
+    span: float
+    outline: m3.CrossSection
+    extents: tuple[float, ...] | None
+    coins_outside: bool
+    layers: int
+
+
+@dataclass(frozen=True)
+class RowLayout:
+    """``kinds[i]`` is frame i's :class:`FrameKind`; ``found`` False (with ``reason``) where a card could not be cut
+    to weigh and swing as the hollow card (its frames then keep the hollow card, and the row may not clear)."""
+    name: str
+    kinds: tuple[FrameKind, ...]
+    found: bool
+    reason: str
+
+
+def nested_layout(cfg) -> RowLayout:
+    """The nested layout for ``cfg``, kept per design and scene (a fit takes seconds)."""
+    d, s = cfg.design, cfg.scene
+    key = (d.La, d.Lb, d.m1, d.rest_angle_deg, d.stop_angle_deg, d.notch_angle_deg, d.notch_opening_deg,
+           d.notch_back_face, d.notch_front_face, d.handrail_thickness, d.hook_radius, s.pitch, s.rise, s.frames)
+    if key not in _KEPT:
+        if len(_KEPT) >= 64:
+            _KEPT.pop(next(iter(_KEPT)))
+        _KEPT[key] = _build_nested(cfg)
+    return _KEPT[key]
+
+
+_KEPT: dict = {}  # the layouts worked out in this process, by what they depend on
+
+
+def _build_nested(cfg) -> RowLayout:
+    d, s = cfg.design, cfg.scene
+    sc = build.side_card(d)
+    n = int(sc["layers"])
+    hollow = hollow_outline(sc)
+    skewers = skewer_footprints(d)
+    # the frame's own stopper skewers turn through its windows: the card keeps out of their way (no room to spare:
+    # its hub bar meets them at the rest angle and the end stop)
+    own = CS.batch_boolean([_swept([pin.rotate(-t) for t in _angles(d)]) for pin in skewers[1:]], m3.OpType.Add)
+    pins = float(build.stopper_reach(d)[1]) * MM
+    found, reasons = {}, []
+    # a narrow card's plane: the wide neighbours' handrails cross it, and every skewer; a wide card's: the skewers
+    for name, turning in (("narrow", [handrail_footprint(d)]), ("wide", [])):
+        keep_out = forbidden(cfg, turning, skewers)
+        if (hollow ^ (keep_out + own)).area() <= TOUCH_AREA:
+            found[name] = (hollow, None, n)
+            continue
+        misfit = None
+        for layers in layers_tried(n):  # fewer layers leave more card to place, more leave less for the cut to take
+            card = dict(sc, layers=layers, depth=sc["depth"])
+            extents, misfit = fit_cut_card(card, keep_out, pins)
+            if extents is not None:
+                found[name] = (cut_card(card, extents, keep_out, pins), tuple(float(x) for x in extents), layers)
+                break
+        else:
+            reasons.append(f"no {name} card cut clear of its neighbours weighs and swings as the hollow card "
+                           f"(nearest, {n} layers: mass {misfit[0]:+.1e}, inertia {misfit[1]:+.1e}, centre "
+                           f"({10 * misfit[2]:+.2f}, {10 * misfit[3]:+.2f}) mm)")
+            found[name] = (hollow, None, n)
+    narrow_t = found["narrow"][2] * build.CARD_THICKNESS
+    spans = {"narrow": build.RAIL_SPAN, "wide": build.RAIL_SPAN + 2 * narrow_t + 2 * GAP}
+    kinds = {name: FrameKind(name, spans[name], outline, extents, name == "wide", layers)
+             for name, (outline, extents, layers) in found.items()}
+    row = tuple(kinds["narrow" if i % 2 == 0 else "wide"] for i in range(s.frames))
+    return RowLayout("nested", row, not reasons, "; ".join(reasons))
+
+
+def layers_tried(n: int) -> tuple[int, ...]:
+    """The layer counts a cut-away card tries, in order: the hollow card's, then more, then fewer."""
+    return tuple(k for k in (n, n + 1, n + 2, n - 1) if 1 <= k <= build.RING_LAYERS_MAX + 2)
