@@ -121,3 +121,17 @@ def test_the_layout_script_prints_the_kinds_and_the_sweep_and_refuses_bad_argume
         assert stop.value.code == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert err[-1].startswith("nested_layout.py: error: ") or "error:" in err[-1]
+
+
+@pytest.mark.slow
+def test_on_a_steep_row_the_handrails_meet_and_the_nested_layout_says_it_finds_none():
+    """steep's stored solution (10 mm of rise a frame): a frame's handrail meets the next frame's resting handrail
+    before the robot lets go, in any layout across the row (both span the robot's arm); the nested layout reports
+    that it found no narrow card rather than cut one that swings otherwise."""
+    cfg = load_config(PAPER.parent / "scenes/solutions/steep.yaml")
+    meets = static_sweep(assembly(cfg, identical_layout(cfg)), frames=[2])
+    rails = [c for c in meets if (c.part, c.other, c.where) == ("handrail", "handrail", "frame 3 at rest")]
+    assert len(rails) == 1 and rails[0].angle_deg < 150.0
+    row = nested_layout(cfg)
+    assert not row.found and row.reason.startswith("no narrow card cut clear of its neighbours")
+    assert row.kinds[0].extents is None  # it keeps the hollow card and says so
