@@ -133,5 +133,5 @@ def test_on_a_steep_row_the_handrails_meet_and_the_nested_layout_says_it_finds_n
     rails = [c for c in meets if (c.part, c.other, c.where) == ("handrail", "handrail", "frame 3 at rest")]
     assert len(rails) == 1 and rails[0].angle_deg < 150.0
     row = nested_layout(cfg)
-    assert not row.found and row.reason.startswith("no narrow card cut clear of its neighbours")
+    assert not row.found and row.reason.startswith("a frame's handrail lies in its neighbour's handrail's path")
     assert row.kinds[0].extents is None  # it keeps the hollow card and says so

@@ -264,6 +264,14 @@ def _build_nested(cfg) -> RowLayout:
         if (hollow ^ (keep_out + own)).area() <= TOUCH_AREA:
             found[name] = (hollow, None, n)
             continue
+        seat = handrail_footprint(d)
+        if name == "narrow" and (seat ^ keep_out).area() > TOUCH_AREA:
+            # the card must carry its own handrail's tabs at the seat, where a neighbour's handrail passes: the two
+            # handrails meet (they both span the robot's arm), and no card can be cut around that
+            reasons.append("a frame's handrail lies in its neighbour's handrail's path (they meet as the frames "
+                           "turn): no layout across the row separates them")
+            found[name] = (hollow, None, n)
+            continue
         misfit = None
         for layers in layers_tried(n):  # fewer layers leave more card to place, more leave less for the cut to take
             card = dict(sc, layers=layers, depth=sc["depth"])
