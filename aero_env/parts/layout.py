@@ -21,7 +21,7 @@ frame's parts go across the row and cuts the cards where a neighbour's part stil
 
 Outlines are manifold3d ``CrossSection``s in mm, in the card's own coordinates (the hole at the origin, u along the
 frame line towards the counterbalance, v across it); :func:`moments` gives their mass properties by Green's
-theorem. :func:`row_layout` is the one home of the layout: the 3D solids read it.
+theorem. :func:`nested_layout` is the one home of the layout: the 3D solids read it.
 """
 
 from __future__ import annotations
@@ -93,7 +93,7 @@ def handrail_footprint(d) -> m3.CrossSection:
 
 def skewer_footprints(d) -> list[m3.CrossSection]:
     """A frame's axis skewer and its two stopper skewers, about its axis (mm): they stand still in the world."""
-    from .kit import stopper_offsets  # the kit places the stoppers; it reads this module only through solids
+    from .kit import stopper_offsets  # the kit places the stoppers (the kit does not import this module)
 
     r = build.SKEWER_D * MM / 2
     return [disc(0.0, 0.0, r)] + [disc(ox * MM, oy * MM, r) for ox, oy in stopper_offsets(d)]
@@ -257,15 +257,15 @@ def _build_nested(cfg) -> RowLayout:
     # its hub bar meets them at the rest angle and the end stop)
     own = CS.batch_boolean([_swept([pin.rotate(-t) for t in _angles(d)]) for pin in skewers[1:]], m3.OpType.Add)
     pins = float(build.stopper_reach(d)[1]) * MM
+    rail = handrail_footprint(d)  # the neighbours' handrails cross a narrow card; its own sits at its seat
     found, reasons = {}, []
     # a narrow card's plane: the wide neighbours' handrails cross it, and every skewer; a wide card's: the skewers
-    for name, turning in (("narrow", [handrail_footprint(d)]), ("wide", [])):
+    for name, turning in (("narrow", [rail]), ("wide", [])):
         keep_out = forbidden(cfg, turning, skewers)
         if (hollow ^ (keep_out + own)).area() <= TOUCH_AREA:
             found[name] = (hollow, None, n)
             continue
-        seat = handrail_footprint(d)
-        if name == "narrow" and (seat ^ keep_out).area() > TOUCH_AREA:
+        if name == "narrow" and (rail ^ keep_out).area() > TOUCH_AREA:
             # the card must carry its own handrail's tabs at the seat, where a neighbour's handrail passes: the two
             # handrails meet (they both span the robot's arm), and no card can be cut around that
             reasons.append("a frame's handrail lies in its neighbour's handrail's path (they meet as the frames "
@@ -274,7 +274,7 @@ def _build_nested(cfg) -> RowLayout:
             continue
         misfit = None
         for layers in layers_tried(n):  # fewer layers leave more card to place, more leave less for the cut to take
-            card = dict(sc, layers=layers, depth=sc["depth"])
+            card = dict(sc, layers=layers)
             extents, misfit = fit_cut_card(card, keep_out, pins)
             if extents is not None:
                 found[name] = (cut_card(card, extents, keep_out, pins), tuple(float(x) for x in extents), layers)
