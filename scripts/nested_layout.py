@@ -3,10 +3,13 @@ cut away and fitted to weigh and swing as the hollow card (aero_env/parts/layout
 by frame in 3D against its neighbours and the stand (aero_env/parts/clearance.py).
 
     python scripts/nested_layout.py configs/paper.yaml [--plot docs/nested_cards.png]
+    python scripts/nested_layout.py configs/paper.yaml --identical
 
 Prints each kind of frame (its side cards' span, layers, whether cut, what the card weighs, where its centre is, how
-it swings, against the hollow card's) and the parts that still meet. Exit status 0 when the row clears, 1 when a
-card could not be fitted or parts still meet, 2 on a bad argument.
+it swings, against the hollow card's) and the parts that still meet. ``--identical`` turns the row with every frame
+alike instead (its side cards in the same two planes: what the kit drew before the nested layout, and what it draws
+where no nested layout serves a design), to show what meets. Exit status 0 when the row clears (with ``--identical``:
+when the sweep ran), 1 when a card could not be fitted or parts still meet, 2 on a bad argument.
 """
 
 from __future__ import annotations
@@ -24,13 +27,17 @@ def main(argv: list[str] | None = None) -> int:
     from aero_env.config import ConfigError, load_config
     from aero_env.parts import build
     from aero_env.parts.clearance import static_sweep
-    from aero_env.parts.layout import moments, nested_layout
+    from aero_env.parts.layout import identical_layout, moments, nested_layout
     from aero_env.parts.solids import assembly
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("config")
     parser.add_argument("--plot", help="draw both kinds of side card (a .png)")
+    parser.add_argument("--identical", action="store_true",
+                        help="turn the row with every frame alike (its cards in the same two planes) instead")
     args = parser.parse_args(argv)
+    if args.plot and args.identical:
+        parser.error("--plot draws the nested layout's cards: not with --identical")
     if args.plot and not args.plot.endswith(".png"):
         parser.error(f"--plot {args.plot!r}: a .png file")
     try:
@@ -38,6 +45,11 @@ def main(argv: list[str] | None = None) -> int:
     except (ConfigError, OSError) as e:
         parser.error(str(e))
     d = cfg.design
+    if args.identical:
+        contacts = static_sweep(assembly(cfg, identical_layout(cfg)))
+        print(f"{args.config}: every frame alike, its side cards in the same two planes")
+        report(contacts)
+        return 0  # a picture of what meets, not a verdict on the kit
     start = time.perf_counter()
     row = nested_layout(cfg)
     fitted = time.perf_counter() - start
@@ -56,16 +68,21 @@ def main(argv: list[str] | None = None) -> int:
     if not row.found:
         print(f"no layout that clears: {row.reason}")
     contacts = static_sweep(assembly(cfg, row))
-    print(f"static sweep (1 deg steps, every frame against its neighbours at rest and at their end stops, and the "
-          f"stand): {len(contacts)} parts meet" + (":" if contacts else ""))
-    for c in contacts[:8]:
-        print("  " + c.line())
-    if len(contacts) > 8:
-        print(f"  and {len(contacts) - 8} more")
+    report(contacts)
     if args.plot:
         plot(row, args.plot)
         print(f"wrote plot: {args.plot}")
     return 0 if row.found and not contacts else 1
+
+
+def report(contacts) -> None:
+    """The static sweep's count, then its first meetings by angle."""
+    print(f"static sweep (1 deg steps, every frame against its neighbours at rest and at their end stops, and the "
+          f"stand): {len(contacts)} parts meet" + (":" if contacts else ""))
+    for c in sorted(contacts, key=lambda c: (c.angle_deg, c.frame))[:8]:
+        print("  " + c.line())
+    if len(contacts) > 8:
+        print(f"  and {len(contacts) - 8} more")
 
 
 def plot(row, path: str) -> None:

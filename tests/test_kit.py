@@ -91,9 +91,13 @@ def test_the_pieces_add_up_to_the_models_masses(kit):
     path, _, parts = kit
     cfg = load_config(path)
     made: dict[str, float] = {}
+    frames = cfg.scene.frames
     for p in parts["parts"]:
+        # a piece made for some frames only (the nested layout's narrow or wide frames) makes its field for those
+        served = p["count"] / p["per_unit"] if p["sets"] in ("design.m1", "design.handrail_mass") else frames
+        assert p["share"] == pytest.approx(served / frames, rel=1e-12) or p["sets"] not in ("design.m1",), p["name"]
         for key in [p["sets"], *p.get("part_of", [])]:
-            made[key] = made.get(key, 0.0) + p["mass_kg"] * p["per_unit"]
+            made[key] = made.get(key, 0.0) + p["mass_kg"] * p["per_unit"] * served / frames
     assert {"design.m1", "design.m3", "design.arm_mass", "design.m2", "design.handrail_mass"} <= set(made)
     for key in ("design.m1", "design.m2", "design.m3", "design.arm_mass", "design.handrail_mass"):
         assert made[key] == pytest.approx(cfg.value(key), rel=0.03), key
@@ -104,13 +108,15 @@ def test_the_prototype_reaches_table_1_part_by_part():
     from aero_env.parts.kit import pieces
 
     by = {p.name: p for p in pieces(load_config(ROOT / "configs/paper.yaml"))}
-    assert 2 * by["swing frame side card"].mass_kg == pytest.approx(4.0e-3, rel=0.03)
+    # the nested layout: the narrow frames' cut cards and the wide frames' hollow ones, each pair the frame's 4 g
+    for kind in ("narrow", "wide"):
+        assert 2 * by[f"swing frame side card, {kind} frames"].mass_kg == pytest.approx(4.0e-3, rel=0.03)
+        assert by[f"handrail, {kind} frames"].mass_kg == pytest.approx(0.21e-3, rel=0.03)
     assert by["arm"].mass_kg == pytest.approx(1.5e-3, rel=0.03)
     torso = by["torso"]
     assert torso.card_area_m2 * torso.layers * GRAMMAGE == pytest.approx(2.0e-3, rel=0.03)
     assert sum(kg for _, kg in torso.added) == pytest.approx(4.0e-3, rel=0.03)
     assert by["counterbalance"].mass_kg == pytest.approx(7.2e-3, rel=0.03)
-    assert by["handrail"].mass_kg == pytest.approx(0.21e-3, rel=0.03)
 
 
 def test_the_template_is_in_mm_and_marks_cuts_and_folds_by_class(kit):
@@ -150,14 +156,15 @@ def test_the_world_swings_the_pieces_the_template_draws(tmp_path):
         return sigma, w, h, r, float(hole.get("cx")) * 1e-3 - float(rect.get("x")) * 1e-3
 
     d = cfg.design
-    sigma, w, h, r, hole_x = plate("part-frame-side-card")
+    sigma, w, h, r, hole_x = plate("part-frame-side-card-wide")
     assert hole_x == pytest.approx(w / 2, abs=1e-5)  # the hole at the card's middle: it balances on the skewer
     card_I = 2 * sigma * (w * h * (w**2 + h**2) / 12 - math.pi * r**4 / 2)
     card_m = 2 * sigma * (w * h - math.pi * r**2)
     # the article's hollow frame: every further cut rectangle is a window, its card and its inertia taken off
-    outline, *windows = (el for el in group["part-frame-side-card"].iter(SVG + "rect") if el.get("class") == "cut")
+    card = group["part-frame-side-card-wide"]  # the wide frames' card is the hollow card, whole
+    outline, *windows = (el for el in card.iter(SVG + "rect") if el.get("class") == "cut")
     assert len(windows) == 2
-    hole = next(el for el in group["part-frame-side-card"].iter(SVG + "circle") if el.get("class") == "cut")
+    hole = next(el for el in group["part-frame-side-card-wide"].iter(SVG + "circle") if el.get("class") == "cut")
     for win in windows:
         x, y, ww, wh = (float(win.get(k)) * 1e-3 for k in ("x", "y", "width", "height"))
         cx, cy = x + ww / 2 - float(hole.get("cx")) * 1e-3, y + wh / 2 - float(hole.get("cy")) * 1e-3
@@ -193,8 +200,9 @@ def test_the_crossbeam_lays_out_the_rows_axes_and_stoppers_at_1_to_1(tmp_path):
     main(["sheet", str(ROOT / "configs/paper.yaml"), "--out", str(tmp_path / "t.svg")])
     root = ET.parse(tmp_path / "t.svg").getroot()
     groups = {g.get("id"): g for g in root.iter(SVG + "g") if (g.get("id") or "").startswith("part-")}
-    _, left, right = sorted((float(r.get("x")), float(r.get("width"))) for r in groups["part-frame-side-card"].iter(
-        SVG + "rect") if r.get("class") == "cut")  # the outline, then its two windows
+    _, left, right = sorted((float(r.get("x")), float(r.get("width")))
+                            for r in groups["part-frame-side-card-wide"].iter(SVG + "rect")
+                            if r.get("class") == "cut")  # the outline, then its two windows (the hollow card)
     hub = right[0] - (left[0] + left[1])  # mm: the bar between the windows, the hole in it
     travel = math.radians(d.stop_angle_deg - d.rest_angle_deg + 15.0)  # with the 15 deg the rest stopper may move
     beams = sorted((k for k in groups if k.startswith("part-crossbeam-")), key=lambda k: int(k.rsplit("-", 1)[1]))

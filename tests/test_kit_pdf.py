@@ -14,10 +14,10 @@ from pypdf import PdfReader
 from pypdf.generic import ContentStream
 
 from aero_env.cli import main
-from aero_env.parts.kit import pieces
+from aero_env.parts.kit import parts_json, pieces
 
 from .conftest import PAPER, per_test_under_mutmut
-from .test_kit_readback import hollow_card
+from .test_kit_readback import crossbeam_gap, hollow_card
 
 PT = 25.4 / 72  # mm per PDF point
 PAGE_MM = {"a4": (210.0, 297.0), "letter": (215.9, 279.4)}
@@ -60,16 +60,17 @@ def red_polygons(reader: PdfReader, page) -> list[list[tuple[float, float]]]:
     return out
 
 
-def sizes_drawn(kit, paper, windows=False):
-    """(size of each red four-cornered outline, rounded to 0.1 mm and sorted, with its page) over the pieces' pages;
-    a four-cornered cut inside another is a window cut out of that piece, listed instead with ``windows``."""
+def sizes_drawn(kit, paper, windows=False, corners=(4,)):
+    """(size of each red outline of so many ``corners``, rounded to 0.1 mm and sorted, with its page) over the
+    pieces' pages; an outline inside another is a window cut out of that piece, listed instead with ``windows``.
+    A rectangle has 4 corners; a cut-away side card's outline more (``corners=range(5, 10**4)``)."""
     reader = PdfReader(kit / f"kit-{paper}.pdf")
     found = []
     for k, page in enumerate(reader.pages):
         boxes = []
         for poly in red_polygons(reader, page):
             xs, ys = [p[0] for p in poly], [p[1] for p in poly]
-            if len(poly) == 4:
+            if len(poly) in corners:
                 boxes.append((min(xs), min(ys), max(xs), max(ys)))
         for b in boxes:
             inside = any(o != b and o[0] < b[0] and o[1] < b[1] and b[2] < o[2] and b[3] < o[3] for o in boxes)
@@ -87,32 +88,44 @@ def test_every_page_is_its_paper_and_every_copy_a_build_needs_is_whole_on_one(ki
         assert float(page.mediabox.height) * PT == pytest.approx(h, abs=0.01)
     # every piece cut from card, count x layers copies of its outline (its first cut rectangle), each drawn whole:
     # four corners on one page, inside the 5 mm the printer leaves
-    expected = {}
+    expected, cut_expected = {}, {}
     for p in pieces(paper_cfg):
         if p.layers:
-            outline = next(s for s in p.shapes if s.tag == "rect" and s.kind == "cut")
-            size = tuple(sorted((round(outline.xy[2], 1), round(outline.xy[3], 1))))
+            rect = next((s for s in p.shapes if s.tag == "rect" and s.kind == "cut"), None)
+            if rect is None:  # a cut-away side card: its outline's extent
+                xs = [v for s in p.shapes if s.tag == "polygon" for v in s.xy[0::2]]
+                ys = [v for s in p.shapes if s.tag == "polygon" for v in s.xy[1::2]]
+                size = tuple(sorted((round(max(xs) - min(xs), 1), round(max(ys) - min(ys), 1))))
+                cut_expected[size] = cut_expected.get(size, 0) + p.count * p.layers
+                continue
+            size = tuple(sorted((round(rect.xy[2], 1), round(rect.xy[3], 1))))
             expected[size] = expected.get(size, 0) + p.count * p.layers
     drawn = {}
     for size, _ in found:
         drawn[size] = drawn.get(size, 0) + 1
     assert drawn == expected
-    # the side cards, worked out in test_kit_readback (the article's hollow frame): two a frame, each with its two
-    # windows cut out
-    d = paper_cfg.design
+    cut_drawn = {}
+    for size, _ in sizes_drawn(kit, paper, corners=range(5, 10**4))[1]:
+        cut_drawn[size] = cut_drawn.get(size, 0) + 1
+    assert cut_drawn == cut_expected
+    # the prototype's side cards, worked out in test_kit_readback (the article's hollow frame), each with its two
+    # windows cut out: two for each wide frame (1, 3, ...); the narrow frames' are cut away where their neighbours
+    # pass, two for each of theirs
+    d, frames = paper_cfg.design, paper_cfg.scene.frames
     length = 2 * (max(d.La, d.Lb) + 4e-3) * 1e3
     layers, depth, end = hollow_card(d)
-    copies = 2 * paper_cfg.scene.frames * layers
+    copies = 2 * (frames // 2) * layers
     assert drawn[tuple(sorted((round(length, 1), round(depth, 1))))] == copies
     window = tuple(sorted((round(length / 2 - end - 3.0, 1), round(depth - 6.0, 1))))  # hub bar 6 mm, strips 3 mm
     assert [size for size, _ in sizes_drawn(kit, paper, windows=True)[1]] == [window] * 2 * copies
+    narrow = next(p for p in pieces(paper_cfg) if p.id == "part-frame-side-card-narrow")
+    assert sum(cut_drawn.values()) == 2 * ((frames + 1) // 2) * narrow.layers
     for k, page in enumerate(reader.pages):
         boxes = []
         for poly in red_polygons(reader, page):
             assert all(EDGE <= x <= w - EDGE and EDGE <= y <= h - EDGE for x, y in poly), (k, poly)
-            if len(poly) == 4:
-                boxes.append((min(p[0] for p in poly), min(p[1] for p in poly), max(p[0] for p in poly),
-                              max(p[1] for p in poly)))
+            boxes.append((min(p[0] for p in poly), min(p[1] for p in poly), max(p[0] for p in poly),
+                          max(p[1] for p in poly)))
         boxes = [b for b in boxes if not any(o != b and o[0] < b[0] and o[1] < b[1] and b[2] < o[2] and b[3] < o[3]
                                              for o in boxes)]  # the windows lie inside their piece
         # no outline overlaps another: each copy can be cut out whole (a hole's circle is no outline)
@@ -156,7 +169,8 @@ def test_each_copy_is_labelled_once_and_the_bill_reads_back_against_the_config(k
     assert f"One-yen coins (1.00 g, 20 mm across): {coins} " in bill
     clay = d.m3 - math.floor(d.m3 / 1e-3 + 1e-9) * 1e-3
     assert f"Modelling clay: {s.frames * clay * 1e3:.1f} g" in bill
-    across = (30 + 20 + 2 * 3 * 0.4 + 2 * 2)  # mm: the crossbeams 50 mm apart, 3 layers each, 2 mm proud each end
+    # mm: the crossbeams' inner faces apart (clear of every frame's parts), 3 layers each, 2 mm proud each end
+    across = crossbeam_gap(paper_cfg, parts_json(paper_cfg)) + 2 * 3 * 0.4 + 2 * 2
     assert (f"{s.frames} x {across:.0f} mm (rotation axis), {2 * s.frames} x {across:.0f} mm (stopper), 1 x " in bill)
     per_stock = 150 // math.ceil(across)
     axle = float(re.search(r"1 x (\d+) mm \(robot's axle\)", bill).group(1))
@@ -178,7 +192,8 @@ def test_a_piece_longer_than_a_page_is_cut_by_measure_and_said_so_on_the_first_p
     bill = " ".join(reader.pages[0].extract_text().split())
     assert "Cut by measure (longer than a page): upright under the first axis, 6 copies of 10.0 x 510.0 mm." in bill
     labels = "\n".join(p.extract_text() for p in reader.pages[1:])
-    assert "upright under the first axis (" not in labels and "swing frame side card (48/48)" in labels
+    # the wide frames' side cards: 4 frames, 2 cards each of 3 layers
+    assert "upright under the first axis (" not in labels and "swing frame side card, wide frames (24/24)" in labels
 
 
 @pytest.mark.parametrize("config", sorted((PAPER.parent / "scenes/solutions").glob("*.yaml")), ids=lambda p: p.stem)

@@ -155,6 +155,10 @@ def _shapes(group):
             elif tag == "line":
                 out.append(("line", child.get("class"), (f("x1") + dx, f("y1") + dy, f("x2") + dx, f("y2") + dy),
                             child.attrib))
+            elif tag == "polygon":  # a cut-away side card's outline (closed), or a window in it
+                xy = [float(v) for pair in child.get("points").split() for v in pair.split(",")]
+                out.append(("polygon", child.get("class"), tuple(v + (dx, dy)[k % 2] for k, v in enumerate(xy)),
+                            child.attrib))
             else:
                 raise AssertionError(f"a {tag} this test cannot read")
 
@@ -288,20 +292,64 @@ def hollow_card(d):
     return n, (card / n + HOLE_AREA) / (2 * H), None
 
 
-def expected_pieces(cfg) -> dict:
+GAP_NESTED = 1.0  # mm: a wide frame's card outside the narrow card beside it; the crossbeams outside every part
+CROSSBEAM_GAP_MIN = RAIL_SPAN + 20.0  # mm: the crossbeams' inner faces apart at the least (10 mm either side)
+CARD_T, COIN_T, COIN_R, CLAY_RHO = 0.4, 1.5, 10.0, 1.6e-3  # mm, mm, mm, g/mm³ (the clay's only in 3D and here)
+
+
+def frame_kinds(parts) -> dict[str, list[int]]:
+    """The kinds of frame parts.json's layout names, each with the frames it serves: {"": every frame} where every
+    frame is alike (and why the nested layout does not serve the design), else narrow (even) and wide (odd)."""
+    lay = parts["layout"]
+    n = len(lay["frames"])
+    if lay["name"] == "identical":
+        assert lay["frames"] == ["identical"] * n and lay["nested_refused"], lay
+        return {"": list(range(n))}
+    assert lay["name"] == "nested" and lay["nested_refused"] == "", lay
+    assert lay["frames"] == ["narrow" if i % 2 == 0 else "wide" for i in range(n)]
+    return {k: list(range(first, n, 2)) for first, k in enumerate(("narrow", "wide")) if first < n}
+
+
+def cut_away(svg) -> set[str]:
+    """The pieces drawn as an outline cut along a polygon (a side card cut where the neighbours pass)."""
+    return {pid for pid, group in svg.items() if isinstance(group, tuple) and of(group[1], "polygon")}
+
+
+def suffix(kind: str) -> str:
+    return f"-{kind}" if kind else ""
+
+
+def spans(parts) -> dict[str, float]:
+    """mm: each kind's side cards' inner faces apart: 30 mm (the robot needs it) but for the wide frames', outside
+    the narrow frames' cards (their layers read from parts.json) with a 1 mm gap each side."""
+    kinds = frame_kinds(parts)
+    if "wide" not in kinds:
+        return {k: RAIL_SPAN for k in kinds}
+    narrow = next(p for p in parts["parts"] if p["id"] == "part-frame-side-card-narrow")
+    return {"narrow": RAIL_SPAN, "wide": RAIL_SPAN + 2 * narrow["layers"] * CARD_T + 2 * GAP_NESTED}
+
+
+def expected_pieces(cfg, parts=None, cut=frozenset()) -> dict:
     """Each model-made piece's count, layers, one layer's card (mm², the cut outline less its holes), its outline
-    (length x width, mm) and what is added to it (kg), from the config alone."""
+    (length x width, mm) and what is added to it (kg), from the config alone and the layout parts.json names (a
+    ``cut`` side card's layers are its own, its card its drawing's: :func:`cut_card_reads_back`). Without
+    ``parts``, every frame alike (the robot's plates and the stand do not depend on the layout)."""
     d, s = cfg.design, cfg.scene
     out = {}
     card = d.m1 / 2 / G * 1e6  # one side card's card over all its layers, mm²
     L = 2 * (max(d.La, d.Lb) * 1e3 + END)
     n, D, e = hollow_card(d)
-    out["part-frame-side-card"] = dict(count=2 * s.frames, layers=n, card=card / n, outline=(L, D), end=e,
-                                       added=[], mass=d.m1 / 2)
     legs = (d.notch_back_face + d.notch_front_face) * 1e3
-    card = d.handrail_mass / G * 1e6
-    out["part-handrail"] = dict(count=s.frames, layers=1, card=card, outline=(card / legs, legs), added=[],
-                                mass=d.handrail_mass)
+    rail = d.handrail_mass / G * 1e6
+    by = {p["id"]: p for p in parts["parts"]} if parts else {}
+    for kind, served in (frame_kinds(parts) if parts else {"": list(range(s.frames))}).items():
+        pid = "part-frame-side-card" + suffix(kind)
+        out[pid] = dict(count=2 * len(served), layers=n, card=card / n, outline=(L, D), end=e, added=[],
+                        mass=d.m1 / 2, frames=served, kind=kind)
+        if pid in cut:
+            out[pid].update(layers=by[pid]["layers"], card=None, outline=None, end=None, mass=None)
+        out["part-handrail" + suffix(kind)] = dict(count=len(served), layers=1, card=rail, outline=(rail / legs, legs),
+                                                   added=[], mass=d.handrail_mass, frames=served, kind=kind)
     coins = math.floor(d.m3 / COIN + 1e-9)
     clay = d.m3 - coins * COIN
     out["part-counterbalance"] = dict(count=s.frames, layers=0, card=0.0, outline=None,
@@ -332,35 +380,60 @@ def linear_k(cfg) -> float:
 
 
 # ---- parts.json, exactly ----
-def test_parts_json_gives_each_pieces_card_and_mass_exactly(kit):
-    cfg, parts, _ = kit
+FIT = 1e-4  # a cut-away card's mass and inertia are fitted to the hollow card's within this (its centre 0.01 mm)
+
+
+def test_parts_json_gives_each_pieces_card_and_mass_exactly(kit, request):
+    cfg, parts, svg = kit
     by = {p["id"]: p for p in parts["parts"]}
     assert parts["grammage_kg_m2"] == G and parts["card_thickness_m"] == 0.4e-3
-    for pid, want in expected_pieces(cfg).items():
+    kinds = frame_kinds(parts)
+    if request.node.callspec.params["kit"] in ("paper", "six_coins", "wide_pitch"):  # found (test_nested_layout.py)
+        assert set(kinds) == {"narrow", "wide"} and "part-frame-side-card-narrow" in cut_away(svg)
+    if request.node.callspec.params["kit"] in ("steep", "heavy_steep_gray"):  # their handrails meet: refused
+        assert "handrail lies in its neighbour's handrail's path" in parts["layout"]["nested_refused"]
+    for pid, want in expected_pieces(cfg, parts, cut_away(svg)).items():
         p = by[pid]
         assert p["grammage_kg_m2"] == G, pid
         assert (p["count"], p["layers"]) == (want["count"], want["layers"]), pid
-        # one layer's card: the outline less its holes; over all layers, exactly the mass the config gives it
-        assert p["card_area_m2"] == pytest.approx(want["card"] * 1e-6, rel=1e-12, abs=1e-18), pid
+        # the part of the row's frames it serves (each kind of frame has its own side card and handrail)
+        assert p["share"] == len(want.get("frames", range(cfg.scene.frames))) / cfg.scene.frames, pid
+        # one layer's card: the outline less its holes; over all layers, exactly the mass the config gives it (a
+        # cut-away card: within the fit's 1e-4)
+        if want["card"] is None:
+            assert p["mass_kg"] == pytest.approx(cfg.design.m1 / 2, rel=FIT), pid
+        else:
+            assert p["card_area_m2"] == pytest.approx(want["card"] * 1e-6, rel=1e-12, abs=1e-18), pid
         assert [a["mass_kg"] for a in p["added"]] == pytest.approx(want["added"], rel=1e-12, abs=1e-15), pid
         if want["mass"] is not None:
             assert p["mass_kg"] == pytest.approx(want["mass"], rel=1e-12), pid
         assert p["mass_kg"] == pytest.approx(p["card_area_m2"] * p["layers"] * G + sum(want["added"]), rel=1e-12)
-    # the fields the pieces make up, each exactly the config's value
+    # the fields the pieces make up, each exactly the config's value (m1 within the fit where a card is cut away):
+    # over the kinds of frame, each piece's mass times the share of the row's frames it serves
     d = cfg.design
-    made = {"design.m1": 2 * by["part-frame-side-card"]["mass_kg"], "design.m3": by["part-counterbalance"]["mass_kg"],
-            "design.arm_mass": by["part-arm"]["mass_kg"], "design.handrail_mass": by["part-handrail"]["mass_kg"],
-            "design.m2": by["part-torso"]["mass_kg"] + by["part-arm"]["mass_kg"] + by["part-handrail"]["mass_kg"]}
+
+    def over_kinds(name, per_unit=1):
+        return sum(per_unit * by[name + suffix(k)]["mass_kg"] * len(f) / cfg.scene.frames for k, f in kinds.items())
+
+    rail = over_kinds("part-handrail")
+    made = {"design.m1": over_kinds("part-frame-side-card", 2), "design.m3": by["part-counterbalance"]["mass_kg"],
+            "design.arm_mass": by["part-arm"]["mass_kg"], "design.handrail_mass": rail,
+            "design.m2": by["part-torso"]["mass_kg"] + by["part-arm"]["mass_kg"] + rail}
     assert set(parts["fields"]) == set(made)
     for key, value in made.items():
+        rel = FIT if key == "design.m1" and cut_away(svg) else 1e-12
         assert parts["fields"][key]["config"] == getattr(d, key.removeprefix("design."))
-        assert value == pytest.approx(cfg.value(key), rel=1e-12), key
-        assert parts["fields"][key]["parts"] == pytest.approx(cfg.value(key), rel=1e-12), key
+        assert value == pytest.approx(cfg.value(key), rel=rel), key
+        assert parts["fields"][key]["parts"] == pytest.approx(value, rel=1e-12), key
 
 
 # what each piece is, and the model field it makes up (Table 1 counts the handrail in m2; two side cards make m1)
 PIECES = {"part-frame-side-card": ("swing frame side card", "design.m1", 2, []),
           "part-handrail": ("handrail", "design.handrail_mass", 1, ["design.m2"]),
+          **{f"part-frame-side-card-{k}": (f"swing frame side card, {k} frames", "design.m1", 2, [])
+             for k in ("narrow", "wide")},
+          **{f"part-handrail-{k}": (f"handrail, {k} frames", "design.handrail_mass", 1, ["design.m2"])
+             for k in ("narrow", "wide")},
           "part-counterbalance": ("counterbalance", "design.m3", 1, []),
           "part-torso": ("torso", "design.m2", 1, []),
           "part-arm": ("arm", "design.arm_mass", 1, ["design.m2"]),
@@ -375,7 +448,9 @@ def test_parts_json_names_each_piece_and_the_field_it_makes(kit, request):
     ids = [p["id"] for p in parts["parts"]]
     beams = [i for i in ids if i.startswith("part-crossbeam-")]
     # in the order of work: the stand, the frames, the robot
-    assert ids == [*beams, "part-upright-first", "part-upright-last", "part-frame-side-card", "part-handrail",
+    kinds = frame_kinds(parts)
+    assert ids == [*beams, "part-upright-first", "part-upright-last",
+                   *("part-frame-side-card" + suffix(k) for k in kinds), *("part-handrail" + suffix(k) for k in kinds),
                    "part-counterbalance", "part-torso", "part-arm", *(["part-leaf-spring"] if "part-leaf-spring" in ids
                                                                       else [])]
     for p in parts["parts"]:
@@ -417,6 +492,10 @@ def test_every_pieces_card_is_its_drawn_outline_less_its_holes(kit):
             assert p["card_area_m2"] == 0.0 and p["id"] not in svg or not of(svg[p["id"]][1], "rect", "cut")
             continue
         shapes = svg[p["id"]][1]
+        if of(shapes, "polygon"):  # a card cut away where its neighbours pass: its outline, its windows, its hole
+            card = drawn_card(shapes)
+            assert abs(card["area"] - p["card_area_m2"] * 1e6) <= card["area_bound"], (p["id"], card["area"])
+            continue
         (x, y, w, h), *windows = of(shapes, "rect", "cut")  # the outline, then any window cut out of it
         holes = of(shapes, "circle", "cut")
         for cx, cy, r in holes:
@@ -431,6 +510,60 @@ def test_every_pieces_card_is_its_drawn_outline_less_its_holes(kit):
         assert abs(area - p["card_area_m2"] * 1e6) <= bound, (p["id"], area, p["card_area_m2"] * 1e6)
 
 
+def shoelace(points) -> np.ndarray:
+    """A polygon's (area, ∫x, ∫y, ∫(x² + y²)) by Green's theorem, its corners in order (either way round: the sign
+    is made positive)."""
+    p = np.asarray(points, float).reshape(-1, 2)
+    x, y = p[:, 0], p[:, 1]
+    x1, y1 = np.roll(x, -1), np.roll(y, -1)
+    c = x * y1 - x1 * y
+    m = np.array([c.sum() / 2, ((x + x1) * c).sum() / 6, ((y + y1) * c).sum() / 6,
+                  ((x * x + x * x1 + x1 * x1 + y * y + y * y1 + y1 * y1) * c).sum() / 12])
+    return m if m[0] > 0 else -m
+
+
+def rounding_bound(points, about) -> np.ndarray:
+    """How far each of :func:`shoelace`'s moments (about ``about``) can move when every drawn coordinate moves up to
+    ``DRAWN`` (the SVG's rounding): the sum of its derivatives' sizes (central differences; the moments are smooth)."""
+    p = np.asarray(points, float).reshape(-1, 2) - about
+    out, h = np.zeros(4), 1e-4
+    for k in range(p.size):
+        up, down = p.copy().ravel(), p.copy().ravel()
+        up[k] += h
+        down[k] -= h
+        out += np.abs(shoelace(up) - shoelace(down)) / (2 * h)
+    return DRAWN * out
+
+
+def drawn_card(shapes) -> dict:
+    """A cut-away card read off its drawing: the largest polygon its outline, the others windows inside it, the circle
+    its hole; its area, centre and polar moment (mm) about the hole's centre, each with the bound the drawing's
+    rounding puts on it."""
+    polys = [np.asarray(xy, float).reshape(-1, 2) for xy in of(shapes, "polygon", "cut")]
+    (hx, hy, hr), = of(shapes, "circle", "cut")
+    outer, *windows = sorted(polys, key=lambda q: -shoelace(q)[0])
+    hole = np.array([math.pi * hr**2, 0.0, 0.0, math.pi * hr**4 / 2])  # about its own centre
+    m = shoelace(outer - (hx, hy)) - sum(shoelace(w - (hx, hy)) for w in windows) - hole
+    bound = sum(rounding_bound(q, (hx, hy)) for q in polys) + np.array(
+        [2 * math.pi * hr * DRAWN, 0.0, 0.0, 2 * math.pi * hr**3 * DRAWN])
+    centre = m[1:3] / m[0]
+    # the hole's centre is rounded too: the moments are taken about a point DRAWN off in each direction
+    shift = m[0] * (2 * np.hypot(*centre) + 2 * DRAWN) * 2 * DRAWN
+    return dict(area=m[0], centre=centre, polar=m[3], area_bound=bound[0],
+                centre_bound=(bound[1:3] + np.abs(m[1:3]) / m[0] * bound[0]) / m[0] + 2 * DRAWN,
+                polar_bound=bound[3] + shift, outer=outer, windows=windows, hole=(hx, hy, hr))
+
+
+def inside(point, poly) -> bool:
+    """Ray casting: ``point`` lies inside the closed polygon ``poly`` (an (n, 2) array)."""
+    x, y = point
+    out = False
+    for (x0, y0), (x1, y1) in zip(poly, np.roll(poly, -1, axis=0)):
+        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+            out = not out
+    return out
+
+
 # ---- the template: every caption's numbers and the geometry they describe ----
 def _is_cross_arm(line) -> bool:
     """A line of a mark's cross: the diagonal of a 3 mm square (a cross as wide as a 1.5 mm reach either way)."""
@@ -438,11 +571,62 @@ def _is_cross_arm(line) -> bool:
     return abs(abs(x2 - x1) - 3.0) <= 2 * DRAWN and abs(abs(y2 - y1) - 3.0) <= 2 * DRAWN
 
 
+def whose(want, frames: int) -> tuple[str, str]:
+    """(title's suffix, caption's words) of a piece that serves one kind of frame: ", NARROW FRAMES" and
+    "frames 0, 2, 4, 6 (narrow); "; none for a piece every frame has."""
+    if not want["kind"]:
+        return "", ""
+    return f", {want['kind'].upper()} FRAMES", f"frames {', '.join(str(i) for i in want['frames'])} ({want['kind']}); "
+
+
 def test_the_side_card_its_hole_seat_and_counterbalance_cross(kit):
-    cfg, _, svg = kit
+    cfg, parts, svg = kit
+    for pid, want in expected_pieces(cfg, parts, cut_away(svg)).items():
+        if pid.startswith("part-frame-side-card"):
+            (cut_card_reads_back if want["card"] is None else hollow_card_reads_back)(cfg, want, *svg[pid])
+
+
+def a13(d) -> float:
+    """kg·m²: the article's frame (A13), both cards, about the axis."""
+    return 2 * d.m1 / 3 * (d.La**2 + d.Lb**2 - d.La * d.Lb)
+
+
+def cut_card_reads_back(cfg, want, text, shapes):
+    """A side card cut where the neighbours pass: as drawn, it weighs m1/2, balances on its hole and swings as A13
+    says (the world swings every frame alike), each within the fit's tolerance and the drawing's rounding; the hole
+    lies on the card, the windows in it; the seat's line and the counterbalance's cross as on the hollow card."""
     d, s = cfg.design, cfg.scene
-    want = expected_pieces(cfg)["part-frame-side-card"]
-    text, shapes = svg["part-frame-side-card"]
+    n = want["layers"]
+    card = drawn_card(shapes)
+    area, polar = card["area"], card["polar"]
+    assert abs(area * n * G * 1e-6 / (d.m1 / 2) - 1) <= FIT + card["area_bound"] / area, area
+    assert np.all(np.abs(card["centre"]) <= 0.01 + card["centre_bound"]), card["centre"]  # balanced on the skewer
+    assert abs(polar * n * G * 1e-12 / (a13(d) / 2) - 1) <= FIT + card["polar_bound"] / polar, polar
+    hx, hy, hr = card["hole"]
+    drawn(hr, HOLE_R)
+    assert inside((hx, hy), card["outer"]) and not any(inside((hx, hy), w) for w in card["windows"])
+    assert all(inside(q, card["outer"]) for w in card["windows"] for q in w)
+    xs, ys = card["outer"][:, 0], card["outer"][:, 1]
+    marks = of(shapes, "line", "mark")
+    (sx1, sy1, sx2, sy2), = [ln for ln in marks if ln[0] == ln[2]]
+    drawn(hx - sx1, d.Lb * 1e3, 2), drawn(min(sy1, sy2), ys.min(), 2), drawn(max(sy1, sy2), ys.max(), 2)
+    cross = [ln for ln in marks if ln[0] != ln[2]]
+    assert len(cross) == 2 and all(_is_cross_arm(ln) for ln in cross)
+    drawn(sum(ln[0] + ln[2] for ln in cross) / 4 - hx, d.La * 1e3, 4)
+    drawn(hy - sum(ln[1] + ln[3] for ln in cross) / 4, d.h * 1e3, 4)
+    title, which = whose(want, s.frames)
+    reads(text, f"SWING FRAME SIDE CARD{title}: {plural(want['count'], 'card')} (<n> cuts): {which}2 per frame, each "
+                f"{layers_text(n)}; cut along the red outline (<n> x <n> mm overall): it keeps <n> mm clear of where "
+                f"the neighbouring frames' handrails and the skewers pass, and weighs, balances and swings as the "
+                f"hollow card. {HOLE_TEXT} (the frame's axis). Black line: the handrail's seat, Lb = <n> mm from the "
+                f"hole. Black cross: the counterbalance's centre, La = <n> mm along and h = <n> mm across (above the "
+                f"line when the seat is on the left).",
+          want["count"] * n, (xs.max() - xs.min(), 1), (ys.max() - ys.min(), 1), 1, (d.Lb * 1e3, 1), (d.La * 1e3, 1),
+          (d.h * 1e3, 1, "+"))
+
+
+def hollow_card_reads_back(cfg, want, text, shapes):
+    d, s = cfg.design, cfg.scene
     L, D = want["outline"]
     (x, y, w, h), *windows = of(shapes, "rect", "cut")
     drawn(w, L), drawn(h, D)
@@ -486,21 +670,27 @@ def test_the_side_card_its_hole_seat_and_counterbalance_cross(kit):
                    "mm wide along both edges, an end bar <n> mm long at each end and a bar <n> mm wide across the "
                    "middle with the hole.")
         shape_v = ((L, 1), (D, 1), (win, 1), (D - 2 * STRIP, 1), (STRIP, 1), (e, 1), (HUB, 1))
-    reads(text, f"SWING FRAME SIDE CARD: {plural(2 * s.frames, 'card')} (<n> cuts): 2 per frame, each "
+    title, which = whose(want, s.frames)
+    reads(text, f"SWING FRAME SIDE CARD{title}: {plural(want['count'], 'card')} (<n> cuts): {which}2 per frame, each "
                 f"{layers_text(n)};{shape_t} {HOLE_TEXT} (the frame's axis). Black line: the handrail's seat, "
                 f"Lb = <n> mm from the hole. Black cross: the counterbalance's centre, La = <n> mm along and h = <n> mm "
                 f"across (above the line when the seat is on the left).{off_t}{note_t}",
-          2 * s.frames * n, *shape_v, (d.Lb * 1e3, 1), (d.La * 1e3, 1), (d.h * 1e3, 1, "+"), *off_v, *note_v)
+          want["count"] * n, *shape_v, (d.Lb * 1e3, 1), (d.La * 1e3, 1), (d.h * 1e3, 1, "+"), *off_v, *note_v)
 
 
 def test_the_handrail_its_folds_tabs_and_end_view(kit):
-    cfg, _, svg = kit
+    cfg, parts, svg = kit
+    for kind, span in spans(parts).items():
+        want = expected_pieces(cfg, parts)["part-handrail" + suffix(kind)]
+        handrail_reads_back(cfg, want, span, *svg["part-handrail" + suffix(kind)])
+
+
+def handrail_reads_back(cfg, want, span, text, shapes):
+    """A handrail: an L of card whose tabs fold at the side cards' inner faces, ``span`` mm apart."""
     d, s = cfg.design, cfg.scene
-    want = expected_pieces(cfg)["part-handrail"]
-    text, shapes = svg["part-handrail"]
     length, legs = want["outline"]
     back, front = d.notch_back_face * 1e3, d.notch_front_face * 1e3
-    tab = (length - RAIL_SPAN) / 2
+    tab = (length - span) / 2
     (x, y, w, h), = of(shapes, "rect", "cut")
     drawn(w, length), drawn(h, legs)
     folds = of(shapes, "line", "fold")
@@ -509,7 +699,7 @@ def test_the_handrail_its_folds_tabs_and_end_view(kit):
     drawn(fy1 - y, back, 2), drawn(fx2 - fx1, length, 2)  # the L's fold: the back leg one side, the front the other
     tab_lines = sorted((ln for ln in folds if ln[0] == ln[2]), key=lambda ln: ln[0])
     assert len(tab_lines) == 2  # (a tab of any length is folded)
-    drawn(tab_lines[0][0] - x, tab, 2), drawn(tab_lines[1][0] - x, tab + RAIL_SPAN, 2)
+    drawn(tab_lines[0][0] - x, tab, 2), drawn(tab_lines[1][0] - x, tab + span, 2)
     for _, y1, _, y2 in tab_lines:  # across the whole L
         drawn(min(y1, y2), y, 2), drawn(max(y1, y2), y + h, 2)
     # the end view: the frame line (horizontal) and the two legs from the corner, the back leg along the direction
@@ -535,22 +725,34 @@ def test_the_handrail_its_folds_tabs_and_end_view(kit):
                     if tab >= 3.0 else  # a glue tab holds from 3 mm
                     ("its end tabs come out <n> mm, shorter than the <n> mm a glue joint needs: design.handrail_mass "
                      "is lighter than this L of card", ((tab, 1), (3.0, 0))))
-    reads(text, f"HANDRAIL: {plural(s.frames, 'piece')}, 1 per frame, <n> x <n> mm. Fold the long dashed line to an L "
-                f"of <n> deg: back leg <n> mm, front leg <n> mm; {tab_t}, the L <n> mm between the cards. Right: its "
-                f"end view at 1:1 on the frame line (horizontal), corner on the seat, the L's bisector <n> deg from "
-                f"the line.",
-          (length, 1), (legs, 1), (d.notch_opening_deg, 0), (back, 1), (front, 1), *tab_v, (RAIL_SPAN, 0),
+    title, which = whose(want, s.frames)
+    reads(text, f"HANDRAIL{title}: {plural(want['count'], 'piece')}, {which}1 per frame, <n> x <n> mm. Fold the long "
+                f"dashed line to an L of <n> deg: back leg <n> mm, front leg <n> mm; {tab_t}, the L <n> mm between the "
+                f"cards. Right: its end view at 1:1 on the frame line (horizontal), corner on the seat, the L's "
+                f"bisector <n> deg from the line.",
+          (length, 1), (legs, 1), (d.notch_opening_deg, 0), (back, 1), (front, 1), *tab_v, (span, 1),
           (tilt, 1, "+"))
 
 
 def test_the_counterbalance_is_coins_and_clay_on_a_coins_circle(kit):
-    cfg, _, svg = kit
+    cfg, parts, svg = kit
     d, s = cfg.design, cfg.scene
     text, shapes = svg["part-counterbalance"]
     coins = math.floor(d.m3 / COIN + 1e-9)
+    clay = d.m3 - coins * COIN > 1e-9
+    between = ("pressed between the side cards, centred on the side card's black cross (the circle: a coin's size, "
+               "not a cut).")
+    kinds = frame_kinds(parts)
+    if "wide" in kinds:  # the wide frames' coins go on their cards' outer faces: the odd coin near, the clay far
+        def stack(n, with_clay):
+            return " and ".join([plural(n, "coin")] * (n > 0) + ["the clay"] * with_clay) or "nothing"
+
+        between = (f"Narrow frames ({', '.join(map(str, kinds['narrow']))}): {between} Wide frames "
+                   f"({', '.join(map(str, kinds['wide']))}): outside, where no other frame's card passes, glued on "
+                   f"the cards' outer faces, centred on their black crosses: {stack((coins + 1) // 2, False)} on the "
+                   f"near card, {stack(coins // 2, clay)} on the far card.")
     reads(text, f"COUNTERBALANCE: {s.frames}, 1 per frame, no card: {plural(coins, 'one-yen coin')} and <n> g of "
-                f"modelling clay (<n> g), pressed between the side cards, centred on the side card's black cross (the "
-                f"circle: a coin's size, not a cut).",
+                f"modelling clay (<n> g), {between}",
           ((d.m3 - coins * COIN) * 1e3, 2), (d.m3 * 1e3, 2))
     (cx, cy, r), = of(shapes, "circle", "mark")
     drawn(r, 10.0)  # a one-yen coin is 20 mm across
@@ -635,10 +837,25 @@ def test_the_leaf_spring_strip_gives_the_stiffness_it_prints(kit):
     assert abs(spring["card_area_m2"] * 1e6 - rw * rh) <= DRAWN * (rw + rh) + DRAWN**2
 
 
+def crossbeam_gap(cfg, parts) -> float:
+    """mm: the crossbeams' inner faces apart: 50 mm, or wider to stand 1 mm clear of every frame's parts across the
+    row: its cards' outer faces, and where the coins go outside (the wide frames), their taller stack on them."""
+    d = cfg.design
+    coins = math.floor(d.m3 / COIN + 1e-9)
+    clay = (d.m3 - coins * COIN) * 1e3 / CLAY_RHO / (math.pi * COIN_R**2)  # mm of clay on a coin's face
+    by = {p["id"]: p for p in parts["parts"]}
+    reach = 0.0
+    for kind, span in spans(parts).items():
+        outer = span / 2 + by["part-frame-side-card" + suffix(kind)]["layers"] * CARD_T
+        stack = max((coins + 1) // 2 * COIN_T, coins // 2 * COIN_T + clay) if kind == "wide" else 0.0
+        reach = max(reach, outer + stack)
+    return max(CROSSBEAM_GAP_MIN, 2 * (reach + GAP_NESTED))
+
+
 def test_the_uprights_and_base(kit):
-    cfg, _, svg = kit
+    cfg, parts, svg = kit
     s = cfg.scene
-    want = expected_pieces(cfg)
+    want = expected_pieces(cfg, parts)
     for end, frame in (("first", 0), ("last", s.frames - 1)):
         w_ = want[f"part-upright-{end}"]
         text, shapes = svg[f"part-upright-{end}"]
@@ -651,8 +868,8 @@ def test_the_uprights_and_base(kit):
         reads(text, f"UPRIGHT UNDER THE {end.upper()} AXIS: cut 2, {layers_text(STAND_LAYERS)}; <n> x <n> mm: frame "
                     f"<n>'s axis <n> mm above the base; fold the <n> mm foot and glue it to the base.{base}",
               (w_["outline"][1], 1), (UPRIGHT_W, 0), frame, (w_["height"], 1), (FOOT, 0),
-              # the base: the row's length and 60 mm either end; the side cards' span and 10 mm either side
-              *(((s.frames - 1) * s.pitch * 1e3 + 120.0, 0), (RAIL_SPAN + 20.0, 0))[:2 if base else 0])
+              # the base: the row's length and 60 mm either end; the crossbeams clear of every frame's parts
+              *(((s.frames - 1) * s.pitch * 1e3 + 120.0, 0), (crossbeam_gap(cfg, parts), 1))[:2 if base else 0])
 
 
 def test_the_crossbeams_captions_are_their_drawings_and_the_rows_pitch_and_rise(kit):
@@ -661,8 +878,8 @@ def test_the_crossbeams_captions_are_their_drawings_and_the_rows_pitch_and_rise(
     beams = sorted((k for k in svg if k.startswith("part-crossbeam-")), key=lambda k: int(k.rsplit("-", 1)[1]))
     step = math.hypot(s.pitch, s.rise) * 1e3
     beta = math.degrees(math.atan2(s.rise, s.pitch))
-    side_card = expected_pieces(cfg)["part-frame-side-card"]
-    depth, hollow = side_card["outline"][1], side_card["end"] is not None
+    _, depth, end = hollow_card(d)  # the stoppers sit in the hollow card's window, whatever the layout
+    hollow = end is not None
     covered = []
     for i, k in enumerate(beams):
         text, shapes = svg[k]
@@ -739,8 +956,8 @@ def test_the_stand_is_drawn_to_the_scale_it_names_and_its_caption_is_in_mm(kit):
     d, s = cfg.design, cfg.scene
     text, shapes = svg["stand"]
     k = int(caption_numbers(r"side view at 1:(\d+) ", text)[0])
-    side_card = expected_pieces(cfg)["part-frame-side-card"]
-    depth, hollow = side_card["outline"][1], side_card["end"] is not None
+    _, depth, end = hollow_card(d)
+    hollow = end is not None
     half_a = math.radians(d.stop_angle_deg - d.rest_angle_deg + 15.0) / 2  # a stopper's angle off the frame line
     pin_r = (HUB / 2 + SKEWER_R) / math.cos(half_a)  # mm: each meets the hub bar's edge (hollow cards)
     # a spring no strip makes is said just above the stand, with no drawing of its own
@@ -883,11 +1100,17 @@ def sheet(request, tmp_path_factory):
         order.append((part, what))
     cfg = load_config(PAPER, dict(kv.split("=", 1) for kv in over))
     d = cfg.design
+    parts, svg = json.loads((out / "parts.json").read_text()), read_template(out / "template.svg")
+    # a row for each kind of frame whose card is cut away where its neighbours pass
+    cut = [(kind, frames) for kind, frames in frame_kinds(parts).items()
+           if "part-frame-side-card" + suffix(kind) in cut_away(svg)]
     # the table's rows, part by part, in the order of work
     assert order == [
         ("swing frame", "skewer hole to counterbalance (La)"), ("swing frame", "skewer hole to handrail seat (Lb)"),
         ("swing frame", "counterbalance offset across the frame line (h)"),
         ("swing frame", "its card (m1): two side cards, each of them"),
+        *(("swing frame", f"the {kind} frames' side cards instead ({', '.join(map(str, frames))}: cut where the "
+                          f"neighbours pass)") for kind, frames in cut),
         ("swing frame", "rest angle (the stopper skewer holds it there) / end stop"),
         ("counterbalance", "mass at (La, h) (m3)"), ("handrail", "an L of card: back leg / front leg"),
         ("handrail", "the L's bisector at rest: from the frame line / from the horizontal / opening"),
@@ -903,7 +1126,7 @@ def sheet(request, tmp_path_factory):
         ("leaf spring", "bench check (the paper's Fig. 18): load at the hook tip, pulling at right angles to the arm, "
                         "and the arm's turn; trim the width in proportion if yours turns more or less"),
         ("row", "frames / skewer holes apart (pitch) / each higher than the last (rise)")]
-    return cfg, rows, lines
+    return cfg, rows, lines, parts, svg
 
 
 # Table 3 of the paper (JIS K7125, the 0.4 mm 310 g/m² card): (name, mu_s, mu_k)
@@ -917,7 +1140,7 @@ def test_sheet_md_reads_as_a_whole(sheet):
     frame's balance worked out from its moments) and the notes."""
     from aero_env.simulation import simulate
 
-    cfg, rows, lines = sheet
+    cfg, rows, lines, _, _ = sheet
     d = cfg.design
     r = simulate(cfg)
     start = lines.index("| part | what | value |")
@@ -996,9 +1219,9 @@ def test_sheet_md_reads_as_a_whole(sheet):
 
 
 def test_sheet_md_gives_every_part_in_mm_and_g_as_the_config_says(sheet):
-    cfg, rows, _ = sheet
+    cfg, rows, _, parts, svg = sheet
     d, s = cfg.design, cfg.scene
-    pieces = expected_pieces(cfg)
+    pieces = expected_pieces(cfg, parts, cut_away(svg))
     mm = lambda text, v: printed(caption_numbers(r"^([-0-9.]+) mm$", text)[0], v * 1e3, 1)  # noqa: E731
     mm(rows["skewer hole to counterbalance (La)"], d.La)
     mm(rows["skewer hole to handrail seat (Lb)"], d.Lb)
@@ -1007,10 +1230,21 @@ def test_sheet_md_gives_every_part_in_mm_and_g_as_the_config_says(sheet):
         r"^([0-9.]+) g \(both: ([0-9.]+) g\): ([0-9.]+) mm x ([0-9.]+) mm, (hollow, )?(?:one layer|(\d+) layers glued "
         r"flat)$", rows["its card (m1): two side cards, each of them"])
     printed(each, d.m1 / 2 * 1e3, 2), printed(both, d.m1 * 1e3, 2)
-    side = pieces["part-frame-side-card"]
-    printed(length, side["outline"][0], 1), printed(depth, side["outline"][1], 1)
-    assert int(layers or 1) == side["layers"]
-    assert bool(hollow) == (side["end"] is not None)
+    n, D, e = hollow_card(d)  # the article's hollow card, whichever frames keep it whole
+    printed(length, 2 * (max(d.La, d.Lb) * 1e3 + END), 1), printed(depth, D, 1)
+    assert int(layers or 1) == n
+    assert bool(hollow) == (e is not None)
+    by = {p["id"]: p for p in parts["parts"]}
+    for pid, want in pieces.items():  # a cut-away card: its mass as parts.json has it, its outline's extent as drawn
+        if pid.startswith("part-frame-side-card") and want["card"] is None:
+            each, length, depth, layers = caption_numbers(
+                r"^([0-9.]+) g each: ([0-9.]+) mm x ([0-9.]+) mm overall, (?:one layer|(\d+) layers glued flat)$",
+                rows[f"the {want['kind']} frames' side cards instead ({', '.join(map(str, want['frames']))}: cut "
+                     f"where the neighbours pass)"])
+            outer = drawn_card(svg[pid][1])["outer"]
+            printed(each, by[pid]["mass_kg"] * 1e3, 2)
+            printed(length, np.ptp(outer[:, 0]), 1), printed(depth, np.ptp(outer[:, 1]), 1)
+            assert int(layers or 1) == want["layers"]
     rest, stop = caption_numbers(r"^([0-9.]+) deg / ([0-9.]+) deg$",
                                  rows["rest angle (the stopper skewer holds it there) / end stop"])
     printed(rest, d.rest_angle_deg, 1), printed(stop, d.stop_angle_deg, 1)
@@ -1097,6 +1331,9 @@ def _layout(path):
                 elif kind == "circle":
                     xs += [xy[0] - xy[2], xy[0] + xy[2]]
                     ys += [xy[1] - xy[2], xy[1] + xy[2]]
+                elif kind == "polygon":
+                    xs += list(xy[0::2])
+                    ys += list(xy[1::2])
                 else:
                     xs += [xy[0], xy[0] + xy[2]]
                     ys += [xy[1], xy[1] + xy[3]]
@@ -1195,13 +1432,17 @@ def test_a_tuned_value_reads_in_the_unit_a_maker_uses(paper_cfg):
     assert workbench("design.mu_s", 0.283, gray) == "nearest card pair: gray arm on gray handrail, 0 % off"
 
 
-def test_every_shape_of_the_kit_is_a_rect_a_circle_or_a_line(paper_cfg):
-    """kit.Shape's tags, as its docstring names them (the template and any other reader dispatch on them)."""
+def test_every_shape_of_the_kit_is_a_rect_a_circle_a_line_or_a_polygon(paper_cfg):
+    """kit.Shape's tags, as its docstring names them (the template and any other reader dispatch on them); only a
+    cut-away side card is a polygon, of three corners at least."""
     from aero_env.parts.kit import pieces
 
     for p in pieces(paper_cfg):
-        assert {s.tag for s in p.shapes} <= {"rect", "circle", "line"} and p.shapes, p.id
-        assert all(len(s.xy) == {"rect": 4, "circle": 3, "line": 4}[s.tag] for s in p.shapes), p.id
+        assert {s.tag for s in p.shapes} <= {"rect", "circle", "line", "polygon"} and p.shapes, p.id
+        assert all(len(s.xy) == {"rect": 4, "circle": 3, "line": 4}[s.tag] for s in p.shapes if s.tag != "polygon")
+        polygons = [s for s in p.shapes if s.tag == "polygon"]
+        assert all(len(s.xy) % 2 == 0 and len(s.xy) >= 6 for s in polygons), p.id
+        assert not polygons or p.id == "part-frame-side-card-narrow", p.id  # the prototype's narrow card only
         assert {s.kind for s in p.shapes} <= {"cut", "fold", "mark"}
 
 

@@ -115,7 +115,15 @@ def test_the_layout_script_prints_the_kinds_and_the_sweep_and_refuses_bad_argume
     narrow = next(ln for ln in out if ln.startswith("narrow "))
     assert narrow.split()[1:4] == ["0,2,4,6", "30.0", str(row.kinds[0].layers)] and "cut away, fitted" in narrow
     assert out[-1].endswith(": 0 parts meet")
-    for bad in ([str(PAPER), "--plot", "cards.svg"], [str(PAPER.parent / "nope.yaml")]):
+    # --identical: every frame alike, their cards in the same planes: parts meet (test_solids.py says where)
+    assert script.main([str(PAPER), "--identical"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].endswith("every frame alike, its side cards in the same two planes")
+    assert int(out[1].split(": ")[1].split()[0]) > 0 and "meets the side card" in out[2]
+    angles = [float(ln.split("theta1 = ")[1].split()[0]) for ln in out[2:10]]
+    assert angles == sorted(angles)  # the first meetings first
+    for bad in ([str(PAPER), "--plot", "cards.svg"], [str(PAPER.parent / "nope.yaml")],
+                [str(PAPER), "--identical", "--plot", "cards.png"]):
         with pytest.raises(SystemExit) as stop:
             script.main(bad)
         assert stop.value.code == 2

@@ -85,7 +85,7 @@ def test_the_svg_template_is_one_to_one(tmp_path, paper_cfg):
     width = float(doc.getAttribute("width").removesuffix("mm"))
     assert doc.getAttribute("viewBox").split()[2] == f"{width:.1f}"  # one user unit is one millimetre
     d = paper_cfg.design
-    frame = _part(doc, "part-frame-side-card")
+    frame = _part(doc, "part-frame-side-card-wide")
     hole = frame.getElementsByTagName("circle")[0]
     seat = frame.getElementsByTagName("line")[0]
     assert _f(hole, "cx") - _f(seat, "x1") == pytest.approx(d.Lb * 1e3, abs=0.01)
@@ -97,7 +97,7 @@ def test_the_svg_template_is_one_to_one(tmp_path, paper_cfg):
     assert _f(card, "width") - _f(axle, "cx") == pytest.approx(d.torso_length * 1e3, abs=0.01)
     assert _f(coins, "r") == pytest.approx(d.coin_radius * 1e3)
     assert _f(coins, "cx") + _f(coins, "r") == pytest.approx(_f(card, "width"), abs=0.01)  # flush with the bottom
-    rail = _part(doc, "part-handrail").getElementsByTagName("rect")[0]
+    rail = _part(doc, "part-handrail-narrow").getElementsByTagName("rect")[0]
     assert _f(rail, "height") == pytest.approx((d.notch_back_face + d.notch_front_face) * 1e3, abs=0.01)
     assert any(r.getAttribute("class") == "scale-bar" and _f(r, "width") == 50.0 for r in doc.getElementsByTagName("rect"))
 

@@ -13,7 +13,7 @@ import pytest
 from aero_env.cli import main
 from aero_env.config import load_config
 from aero_env.parts.clearance import static_sweep
-from aero_env.parts.solids import assembly
+from aero_env.parts.solids import assembly, identical_layout
 
 from .conftest import PAPER, per_test_under_mutmut
 from .test_kit_readback import hollow_card
@@ -95,27 +95,54 @@ def glb(tmp_path_factory):
 
 
 def test_the_glb_has_a_node_per_frame_on_its_axis_turning_about_local_z(glb, paper_cfg):
+    """The prototype's row in its nested layout (docs/make-your-own.md): even frames narrow, their side cards' inner
+    faces 30 mm apart, the counterbalance between them; odd frames wide, their cards 1 mm outside the narrow cards'
+    outer faces, the coins halved onto their outer faces (the odd coin near, the clay far)."""
     gltf, binary = glb
     nodes = world_nodes(gltf)
     d, s = paper_cfg.design, paper_cfg.scene
     roots = {gltf["nodes"][i]["name"] for i in gltf["scenes"][0]["nodes"]}
     assert roots == {f"frame-{i}" for i in range(s.frames)} | {"robot", "stand"}
     rest = math.radians(d.rest_angle_deg)
+    coins, clay_g = math.floor(d.m3 / 1e-3 + 1e-9), round((d.m3 - math.floor(d.m3 / 1e-3 + 1e-9) * 1e-3) * 1e3, 1)
+    half = max(d.La, d.Lb) + END
+
+    def extent(name):
+        v, _ = mesh_of(gltf, binary, nodes[name][1])
+        return v.min(axis=0), v.max(axis=0)
+
+    narrow_t = extent("frame-0/side-card-near")[1][2] - extent("frame-0/side-card-near")[0][2]
+    span = {0: 0.030, 1: 0.030 + 2 * narrow_t + 2 * 1e-3}  # m: each kind's cards' inner faces apart
     for i in range(s.frames):
         pose, _ = nodes[f"frame-{i}"]
         np.testing.assert_allclose(pose[:3, 3], [i * s.pitch, i * s.rise, 0.0], atol=1e-12)  # origin on the axis
         np.testing.assert_allclose(pose[:3, 2], [0.0, 0.0, 1.0], atol=1e-12)  # local z: the axis
         np.testing.assert_allclose(pose[:3, 0], [math.cos(rest), math.sin(rest), 0.0], atol=1e-12)  # at rest
-        # the side cards run END past the farther of the seat and the counterbalance, either way along local x
-        v, _ = mesh_of(gltf, binary, nodes[f"frame-{i}/side-card-near"][1])
-        half = max(d.La, d.Lb) + END
-        assert v[:, 0].min() == pytest.approx(-half, abs=1e-7) and v[:, 0].max() == pytest.approx(half, abs=1e-7)
+        # the side cards run END past the farther of the seat and the counterbalance, either way along local x (the
+        # narrow frames' cut away no further); their inner faces span apart, the near card on +z
+        wide = i % 2
+        for card, sign in (("near", 1), ("far", -1)):
+            lo, hi = extent(f"frame-{i}/side-card-{card}")
+            assert lo[0] >= -half - 1e-7 and hi[0] <= half + 1e-7
+            if wide:  # the hollow card, whole
+                assert lo[0] == pytest.approx(-half, abs=1e-7) and hi[0] == pytest.approx(half, abs=1e-7)
+            inner = lo[2] if sign > 0 else -hi[2]
+            assert inner == pytest.approx(span[wide] / 2, abs=1e-7), (i, card)
         # the counterbalance's coins sit on (La, h); a positive turn is the world's: rest -> end stop
-        v, _ = mesh_of(gltf, binary, nodes[f"frame-{i}/counterbalance-coins-7"][1])
-        centre = (v.min(axis=0) + v.max(axis=0)) / 2
+        if not wide:  # one stack centred between the cards, the clay on it
+            lo, hi = extent(f"frame-{i}/counterbalance-coins-{coins}")
+            clay_lo, clay_hi = extent(f"frame-{i}/counterbalance-clay-{clay_g}-g")
+            assert lo[2] == pytest.approx(-clay_hi[2], abs=1e-7)  # coins and clay centred between the cards
+        else:  # outside: the odd coin on the near card's outer face, the rest and the clay on the far card's
+            lo, hi = extent(f"frame-{i}/counterbalance-coins-near-{(coins + 1) // 2}")
+            far_lo, far_hi = extent(f"frame-{i}/counterbalance-coins-far-{coins // 2}")
+            clay_lo, clay_hi = extent(f"frame-{i}/counterbalance-clay-{clay_g}-g")
+            outer = extent(f"frame-{i}/side-card-near")[1][2]  # the near card's outer face
+            assert lo[2] == pytest.approx(outer, abs=1e-7) and far_hi[2] == pytest.approx(-outer, abs=1e-7)
+            assert hi[2] - lo[2] == pytest.approx((coins + 1) // 2 * 1.5e-3, abs=1e-7)
+            assert clay_hi[2] == pytest.approx(far_lo[2], abs=1e-7)  # the clay on the far stack
+        centre = (lo + hi) / 2
         assert centre[:2] == pytest.approx([d.La, d.h], abs=1e-6)
-        clay, _ = mesh_of(gltf, binary, nodes[f"frame-{i}/counterbalance-clay-0.2-g"][1])
-        assert v[:, 2].min() == pytest.approx(-clay[:, 2].max(), abs=1e-7)  # coins and clay centred between the cards
         world = pose @ np.array([*centre[:2], 0.0, 1.0])
         expect = turn(rest, d.La, d.h)
         assert world[:2] == pytest.approx([i * s.pitch + expect[0], i * s.rise + expect[1]], abs=1e-6)
@@ -129,12 +156,15 @@ def test_every_mesh_in_the_glb_is_closed_and_weighs_what_its_part_does(glb, pape
         if "mesh" in node:
             volumes[name] = closed_volume(*mesh_of(gltf, binary, node))
             assert volumes[name] > 0, name
-    # a side card is m1/2 of the paper's card: its volume at the card's density (grammage / thickness)
-    assert volumes["frame-0/side-card-near"] * GRAMMAGE / CARD_T == pytest.approx(d.m1 / 2, rel=2e-3)
+    # a side card is m1/2 of the paper's card, the narrow frames' cut-away one too: its volume at the card's density
+    # (grammage / thickness)
+    for i in (0, 1):
+        assert volumes[f"frame-{i}/side-card-near"] * GRAMMAGE / CARD_T == pytest.approx(d.m1 / 2, rel=2e-3)
     # seven one-yen coins, 20 mm across and 1.5 mm thick, as a 32-sided prism: (32/2)·sin(2π/32)·r² per 1.5 mm
     prism = 16 * math.sin(2 * math.pi / 32) * 0.01**2
     assert volumes["frame-0/counterbalance-coins-7"] == pytest.approx(7 * 1.5e-3 * prism, rel=1e-5)
-    # the handrail: its two faces, each its card's thickness, across the 30 mm between the side cards
+    assert volumes["frame-1/counterbalance-coins-near-4"] == pytest.approx(4 * 1.5e-3 * prism, rel=1e-5)
+    # the handrail: its two faces, each its card's thickness, across the 30 mm between the narrow frames' side cards
     legs = d.notch_back_face + d.notch_front_face
     assert volumes["frame-0/handrail"] == pytest.approx(legs * d.handrail_thickness * 0.030, rel=0.03)
 
@@ -213,7 +243,7 @@ def test_todays_layout_collides_where_plane_geometry_says(paper_cfg):
     counted = next(a for a in np.arange(onset, d.stop_angle_deg, 0.05)
                    if (area(ring(3 * s.pitch, 3 * s.rise, math.radians(a), half, depth / 2, end_mm * 1e-3)) ^ still_cs)
                    .area() * thickness_mm > 1.0)
-    asm = assembly(paper_cfg)
+    asm = assembly(paper_cfg, identical_layout(paper_cfg))
     contacts = static_sweep(asm, frames=[3])
     hit = [c for c in contacts if (c.part, c.other, c.where) == ("side card (near)", "side card (near)",
                                                                  "frame 4 at rest")]
@@ -236,8 +266,15 @@ def test_frames_far_apart_clear_and_touch_only_their_own_stoppers():
 @pytest.mark.parametrize("config", sorted((PAPER.parent / "scenes/solutions").glob("*.yaml")), ids=lambda p: p.stem)
 def test_every_stored_solution_stands_up_as_closed_solids(config, tmp_path):
     """Each stored scene solution's row, written as assembly.glb: one node per frame on its axis, every mesh closed
-    with a positive volume."""
+    with a positive volume; and in the kit's layout each frame turned from rest to its end stop meets nothing (the
+    nested layout), or the kit says why no nested layout serves the design (and then its parts do meet)."""
+    from aero_env.parts.layout import nested_refusal
+
     cfg = load_config(config)
+    refused, contacts = nested_refusal(cfg), static_sweep(assembly(cfg))
+    assert (contacts == []) is (refused == ""), (refused, contacts[:1])
+    if refused:  # steep and heavy_steep_gray: their handrails meet in any layout (test_nested_layout.py)
+        assert refused.startswith("a frame's handrail lies in its neighbour's handrail's path"), refused
     out = tmp_path / "row.glb"
     assert main(["sheet", str(config), "--out", str(out)]) == 0
     gltf, binary = read_glb(out.read_bytes())

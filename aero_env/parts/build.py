@@ -257,6 +257,26 @@ def side_card(d: Design) -> dict:
                 strip=MIN_STRIP, hub=HUB_BAR)
 
 
+def stopper_offsets(d) -> tuple[tuple[float, float], tuple[float, float]]:
+    """World offsets (m) from a frame's axis of its two stopper skewers' centres, (rest, end). In the hollow card's
+    window (:func:`stopper_radius`): the rest stopper meets the hub bar's edge with the frame at
+    its rest angle, the end stopper with it at the end stop; each turns through the window between, so no other
+    frame's card comes near it. A flat card's (no window): the rest stopper touches the card's edge below the
+    counterbalance's arm, halfway out, at rest, and the end stopper the other edge at the end stop. The world's rotary
+    limits are where these skewers hold the card."""
+    sc = side_card(d)
+    out = []
+    for angle_deg, side in ((d.rest_angle_deg, 1.0), (d.stop_angle_deg, -1.0)):
+        a = math.radians(angle_deg)
+        if sc["hollow"]:  # against the hub bar's edge on the counterbalance's side, above the line at rest
+            s = HUB_BAR / 2 + SKEWER_D / 2
+            off = side * math.sqrt(float(stopper_radius(d)) ** 2 - s * s)
+        else:  # against the card's edge, La/2 out: below the line at rest, above it at the end stop
+            s, off = d.La / 2, -side * (float(sc["depth"]) / 2 + SKEWER_D / 2)
+        out.append((s * math.cos(a) - off * math.sin(a), s * math.sin(a) + off * math.cos(a)))
+    return out[0], out[1]
+
+
 def frame_card_inertia(d: Design):
     """The frame's card (both side cards, m1) about its axis, kg·m²: what the world swings as I1."""
     return 2.0 * side_card(d)["I_axis"]

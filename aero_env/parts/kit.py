@@ -15,6 +15,8 @@ from dataclasses import dataclass, field
 
 from . import build
 from .card import PAPER_CARD, Card
+from .layout import CLEAR, counterbalance_stacks, crossbeam_gap, kit_layout, nested_refusal
+from .layout import moments as layout_moments
 from .spring_strip import GLUE_TAB, linear_equivalent, plan_strip
 
 MM = 1e3  # the kit draws in mm; build.py is SI
@@ -23,7 +25,8 @@ MM = 1e3  # the kit draws in mm; build.py is SI
 @dataclass(frozen=True)
 class Shape:
     """One drawn element in the piece's own mm coordinates (y down): ``rect`` (x, y, w, h), ``circle``
-    (cx, cy, r), ``line`` (x1, y1, x2, y2) or ``polyline`` (x1, y1, x2, y2, ...); ``kind`` cut, fold or mark."""
+    (cx, cy, r), ``line`` (x1, y1, x2, y2) or ``polygon`` (x1, y1, x2, y2, ..., closed); ``kind`` cut, fold or
+    mark."""
     tag: str
     kind: str
     xy: tuple[float, ...]
@@ -43,6 +46,7 @@ class Piece:
     caption: tuple[str, ...]
     shapes: tuple[Shape, ...] = field(default=())
     grammage: float = build.GRAMMAGE
+    share: float = 1.0  # of the row's units of its field this piece makes (a kind of frame's own piece: its frames')
 
     def __post_init__(self):  # plain floats and ints, whatever arrays build.py computed them with
         object.__setattr__(self, "card_area_m2", float(self.card_area_m2))
@@ -61,7 +65,7 @@ class Piece:
         return dict(name=self.name, id=self.id, count=self.count, layers=self.layers,
                     grammage_kg_m2=self.grammage, card_area_m2=self.card_area_m2,
                     added=[dict(what=w, mass_kg=kg) for w, kg in self.added], mass_kg=self.mass_kg,
-                    sets=self.sets, per_unit=self.per_unit, part_of=list(self.part_of))
+                    sets=self.sets, per_unit=self.per_unit, part_of=list(self.part_of), share=self.share)
 
 
 def shapes_extent(shapes) -> tuple[float, float, float, float]:
@@ -120,8 +124,19 @@ def _too_narrow(what: str, width: float) -> str:
             f"cannot be cut as the model has it (a lighter design than card allows)" if width < NARROWEST else "")
 
 
-def side_card(cfg) -> Piece:
-    d, frames = cfg.design, cfg.scene.frames
+def _which(frames: list[int], total: int, kind: str) -> tuple[str, str]:
+    """(title's suffix, caption's words) for a piece that serves only some frames of the row."""
+    if len(frames) == total:
+        return "", ""
+    return f", {kind.upper()} FRAMES", f"frames {', '.join(str(i) for i in frames)} ({kind}); "
+
+
+def side_card(cfg, frames_served: list[int] | None = None, kind: str = "") -> Piece:
+    """The hollow side card, for every frame (or ``frames_served``, the ``kind`` of frame that keeps it whole)."""
+    d = cfg.design
+    served = list(range(cfg.scene.frames)) if frames_served is None else frames_served
+    frames = len(served)
+    title, which = _which(served, cfg.scene.frames, kind)
     sc = build.side_card(d)
     n, L, D, half = int(sc["layers"]), sc["length"] * MM, sc["depth"] * MM, sc["half_length"] * MM
     hollow, end, hub = bool(sc["hollow"]), float(sc["end"]) * MM, sc["hub"] * MM
@@ -142,13 +157,66 @@ def side_card(cfg) -> Piece:
              f"end and a bar {hub:.1f} mm wide across the middle with the hole."
              if hollow else f"{L:.1f} x {D:.1f} mm, flat (no window of this design's fits: {no_ring(d)}).")
     return Piece(
-        "swing frame side card", "part-frame-side-card", 2 * frames, n, area, (), "design.m1", 2, (),
-        (f"SWING FRAME SIDE CARD: {_plural(2 * frames, 'card')} ({2 * frames * n} cuts): 2 per frame, each "
-         f"{_layers_text(n)}; {shape}",
+        "swing frame side card" + (f", {kind} frames" if title else ""),
+        "part-frame-side-card" + (f"-{kind}" if title else ""), 2 * frames, n,
+        area, (), "design.m1", 2, (),
+        (f"SWING FRAME SIDE CARD{title}: {_plural(2 * frames, 'card')} ({2 * frames * n} cuts): {which}2 per frame, "
+         f"each {_layers_text(n)}; {shape}",
          f"{HOLE_TEXT} (the frame's axis). Black line: the handrail's seat, Lb = {d.Lb * MM:.1f} mm from the hole.",
          f"Black cross: the counterbalance's centre, La = {d.La * MM:.1f} mm along and h = {h:+.1f} mm across "
          f"(above the line when the seat is on the left).{off_card}{'' if hollow else _too_narrow('side card', D)}"),
-        tuple(shapes))
+        tuple(shapes), share=frames / cfg.scene.frames)
+
+
+def cut_side_card(cfg, frames_served: list[int], kind) -> Piece:
+    """A side card cut away where its neighbours' parts pass (:mod:`aero_env.parts.layout`): its outline as drawn,
+    the hole at its origin, the seat's line and the counterbalance's cross as on the hollow card."""
+    d = cfg.design
+    frames, n = len(frames_served), kind.layers
+    title, which = _which(frames_served, cfg.scene.frames, kind.name)
+    half = float(build.side_card(d)["half_length"]) * MM
+    polys = [[(float(u), float(v)) for u, v in poly] for poly in kind.outline.to_polygons()]
+
+    def signed(poly):  # shoelace: positive for an outline, negative for a hole in it
+        return sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(poly, poly[1:] + poly[:1])) / 2
+
+    hole_r = build.HOLE_D * MM / 2
+    holes = [p for p in polys if signed(p) < 0]
+    shapes = [Shape("polygon", "cut", tuple(c for u, v in p for c in (u + half, -v)))
+              for p in sorted(polys, key=signed, reverse=True)  # the outline first, then its windows
+              if signed(p) > 0 or max(math.hypot(u, v) for u, v in p) > hole_r + 1e-6]
+    shapes.append(_circle(half, 0, HOLE_R))
+    area = layout_moments(kind.outline)[0]
+    vs = [v for p in polys for _, v in p]
+    seat, cb, h = half - d.Lb * MM, half + d.La * MM, d.h * MM
+    shapes += [_line(seat, -max(vs), seat, -min(vs), "mark"), *_cross(cb, -h)]
+    us = [u for p in polys for u, _ in p]
+    assert len(holes) >= 1  # the skewer's hole is a hole in the card
+    return Piece(
+        f"swing frame side card, {kind.name} frames", f"part-frame-side-card-{kind.name}", 2 * frames, n,
+        area / MM**2, (), "design.m1", 2, (),
+        (f"SWING FRAME SIDE CARD{title}: {_plural(2 * frames, 'card')} ({2 * frames * n} cuts): {which}2 per "
+         f"frame, each {_layers_text(n)}; cut along the red outline ({max(us) - min(us):.1f} x {max(vs) - min(vs):.1f}"
+         f" mm overall): it keeps {CLEAR:.0f} mm clear of where the neighbouring frames' handrails and the skewers "
+         f"pass, and weighs, balances and swings as the hollow card.",
+         f"{HOLE_TEXT} (the frame's axis). Black line: the handrail's seat, Lb = {d.Lb * MM:.1f} mm from the hole.",
+         f"Black cross: the counterbalance's centre, La = {d.La * MM:.1f} mm along and h = {h:+.1f} mm across "
+         f"(above the line when the seat is on the left)."),
+        tuple(shapes), share=frames / cfg.scene.frames)
+
+
+def side_cards(cfg) -> list[Piece]:
+    """The side cards the kit's layout asks for: one hollow card for every frame, or in the nested layout the
+    narrow frames' (cut away, if their card is cut) and the wide frames'."""
+    row = kit_layout(cfg)
+    if row.name != "nested":
+        return [side_card(cfg)]
+    out = []
+    for first in (0, 1)[:cfg.scene.frames]:
+        kind = row.kinds[first]
+        served = list(range(first, cfg.scene.frames, 2))
+        out.append(side_card(cfg, served, kind.name) if kind.extents is None else cut_side_card(cfg, served, kind))
+    return out
 
 
 def no_ring(d) -> str:
@@ -159,11 +227,16 @@ def no_ring(d) -> str:
             f"weighs design.m1 / 2")
 
 
-def handrail(cfg) -> Piece:
-    d, frames = cfg.design, cfg.scene.frames
+def handrail(cfg, frames_served: list[int] | None = None, kind: str = "", span_m: float = build.RAIL_SPAN) -> Piece:
+    """The handrail L for every frame (or ``frames_served``, whose cards stand ``span_m`` apart)."""
+    d = cfg.design
+    served = list(range(cfg.scene.frames)) if frames_served is None else frames_served
+    frames = len(served)
+    title, which = _which(served, cfg.scene.frames, kind)
     hr = build.handrail_card(d)
-    back, front, tab, length = d.notch_back_face * MM, d.notch_front_face * MM, hr["tab"] * MM, hr["length"] * MM
-    span = build.RAIL_SPAN * MM
+    span = span_m * MM
+    back, front, length = d.notch_back_face * MM, d.notch_front_face * MM, hr["length"] * MM
+    tab = (length - span) / 2
     legs = back + front
     shapes = [_rect(0, 0, length, legs), _line(0, back, length, back)]
     if tab > 0:
@@ -179,14 +252,26 @@ def handrail(cfg) -> Piece:
     tab_text = (f"fold the {tab:.1f} mm tab at each end 90 deg and glue it inside a side card" if tab >= build.MIN_TAB
                 * MM else f"its end tabs come out {tab:.1f} mm, shorter than the {build.MIN_TAB * MM:.0f} mm a glue "
                 f"joint needs: design.handrail_mass is lighter than this L of card")
+    suffix = f"-{kind}" if title else ""
     return Piece(
-        "handrail", "part-handrail", frames, 1, length * legs / MM**2, (), "design.handrail_mass", 1, ("design.m2",),
-        (f"HANDRAIL: {_plural(frames, 'piece')}, 1 per frame, {length:.1f} x {legs:.1f} mm. Fold the long dashed line "
-         f"to an L of {d.notch_opening_deg:.0f} deg:",
-         f"back leg {back:.1f} mm, front leg {front:.1f} mm; {tab_text}, the L {span:.0f} mm between the cards.",
+        f"handrail{', ' + kind + ' frames' if title else ''}", f"part-handrail{suffix}", frames, 1,
+        length * legs / MM**2, (), "design.handrail_mass", 1, ("design.m2",),
+        (f"HANDRAIL{title}: {_plural(frames, 'piece')}, {which}1 per frame, {length:.1f} x {legs:.1f} mm. Fold the "
+         f"long dashed line to an L of {d.notch_opening_deg:.0f} deg:",
+         f"back leg {back:.1f} mm, front leg {front:.1f} mm; {tab_text}, the L {span:.1f} mm between the cards.",
          f"Right: its end view at 1:1 on the frame line (horizontal), corner on the seat, the L's bisector "
          f"{math.degrees(tilt):+.1f} deg from the line."),
-        tuple(shapes))
+        tuple(shapes), share=frames / cfg.scene.frames)
+
+
+def handrails(cfg) -> list[Piece]:
+    """One handrail for every frame, or in the nested layout the narrow frames' and the wide frames' (the same L,
+    its tabs shorter where the cards stand wider apart)."""
+    row = kit_layout(cfg)
+    if row.name != "nested":
+        return [handrail(cfg)]
+    return [handrail(cfg, list(range(first, cfg.scene.frames, 2)), row.kinds[first].name, row.kinds[first].span)
+            for first in (0, 1)[:cfg.scene.frames]]
 
 
 def counterbalance(cfg) -> Piece:
@@ -200,9 +285,27 @@ def counterbalance(cfg) -> Piece:
         "counterbalance", "part-counterbalance", frames, 0, 0.0, added, "design.m3", 1, (),
         (f"COUNTERBALANCE: {frames}, 1 per frame, no card: {_plural(coins, 'one-yen coin')} and {clay * 1e3:.2f} g of "
          f"modelling clay ({d.m3 * 1e3:.2f} g),",
-         "pressed between the side cards, centred on the side card's black cross (the circle: a coin's size, "
-         "not a cut)."),
+         _placement(cfg)),
         (_circle(r, 0, r, "mark"), *_cross(r, 0)))
+
+
+def _placement(cfg) -> str:
+    """Where the counterbalance goes, in the kit's layout."""
+    row = kit_layout(cfg)
+    between = ("pressed between the side cards, centred on the side card's black cross (the circle: a coin's size, "
+               "not a cut).")
+    if row.name != "nested":
+        return between
+    clay = float(build.counterbalance_load(cfg.design.m3)["clay"]) > 0
+
+    def stack(coins: int, with_clay: bool) -> str:
+        return " and ".join([_plural(coins, "coin")] * (coins > 0) + ["the clay"] * (with_clay and clay)) or "nothing"
+
+    near, far = counterbalance_stacks(cfg.design, True)
+    narrow, wide = (", ".join(str(i) for i in range(first, cfg.scene.frames, 2)) for first in (0, 1))
+    return (f"Narrow frames ({narrow}): {between} Wide frames ({wide}): outside, where no other frame's card "
+            f"passes, glued on the cards' outer faces, centred on their black crosses: {stack(*near[1:])} on the "
+            f"near card, {stack(*far[1:])} on the far card.")
 
 
 def arm(cfg) -> Piece:
@@ -267,8 +370,8 @@ def spring(cfg, card: Card = PAPER_CARD) -> Piece | None:
 
 def pieces(cfg, card: Card = PAPER_CARD) -> list[Piece]:
     """Every piece of the kit, in the order of work: the stand, the frames, the robot."""
-    out = [*crossbeam_segments(cfg), *uprights(cfg), side_card(cfg), handrail(cfg), counterbalance(cfg), torso(cfg),
-           arm(cfg)]
+    out = [*crossbeam_segments(cfg), *uprights(cfg), *side_cards(cfg), *handrails(cfg), counterbalance(cfg),
+           torso(cfg), arm(cfg)]
     strip = spring(cfg, card)
     return out + ([strip] if strip is not None else [])
 
@@ -278,20 +381,24 @@ MASS_FIELDS = ("design.m1", "design.m2", "design.m3", "design.arm_mass", "design
 
 def field_masses(ps: list[Piece]) -> dict[str, float]:
     """What the pieces make of each mass field: the sum over the pieces that set it (or are part of it) of
-    their mass times ``per_unit`` (that many of the piece make one of the field)."""
+    their mass times ``per_unit`` (that many of the piece make one of the field) times ``share`` (the part of the
+    row's frames it serves, where each kind of frame has its own piece)."""
     out: dict[str, float] = {}
     for p in ps:
         for key in (p.sets, *p.part_of):
             if key in MASS_FIELDS:
-                out[key] = out.get(key, 0.0) + p.mass_kg * p.per_unit
+                out[key] = out.get(key, 0.0) + p.mass_kg * p.per_unit * p.share
     return out
 
 
 def parts_json(cfg, config_name: str = "") -> dict:
     ps = pieces(cfg)
     made = field_masses(ps)
+    row = kit_layout(cfg)
+    layout = dict(name=row.name, frames=[k.name for k in row.kinds],
+                  nested_refused=nested_refusal(cfg))
     return dict(config=config_name, grammage_kg_m2=build.GRAMMAGE, card_thickness_m=build.CARD_THICKNESS,
-                parts=[p.json() for p in ps],
+                layout=layout, parts=[p.json() for p in ps],
                 fields={k: dict(config=float(cfg.value(k)), parts=float(v)) for k, v in made.items()})
 
 
@@ -300,39 +407,23 @@ SEGMENT_MAX = 170.0  # mm: a crossbeam segment fits the template's width, so it 
 CROSSBEAM_LAYERS = 3  # a stiff strip: three layers glued flat (a choice; the stand's mass is not modelled)
 UPRIGHT_WIDTH = 10.0  # mm
 SNUG_R = build.SKEWER_D * MM / 2  # the crossbeam holds each skewer snug: the frames turn on it, it does not turn
-CROSSBEAM_GAP = build.RAIL_SPAN + 20.0e-3  # m: the two crossbeams' inner faces apart, the frames between them
 SKEWER_PROUD = 2.0e-3  # m: a skewer stands this far out of what holds it at each end, to grip and push it back out
 
 
-def skewer_lengths(d) -> dict[str, float]:
-    """Each skewer piece's length (m): an ``axis`` or a ``stopper`` spans the stand from one crossbeam's outer face
-    to the other's; the robot's ``axle`` runs through the torso and across the arm's width. Each stands
-    ``SKEWER_PROUD`` out at both ends. The bill of materials and the 3D stand read these."""
-    beam = CROSSBEAM_LAYERS * build.CARD_THICKNESS
+def axle_length(d) -> float:
+    """m: the robot's axle runs through the torso and across the arm's width, ``SKEWER_PROUD`` out at each end."""
     torso = float(build.torso_plate(d, d.torso_length)["layers"]) * build.CARD_THICKNESS
-    arm = float(build.arm_plate(d)["width"])
-    across = CROSSBEAM_GAP + 2 * beam + 2 * SKEWER_PROUD
-    return dict(axis=across, stopper=across, axle=arm + torso + 2 * SKEWER_PROUD)
+    return float(build.arm_plate(d)["width"]) + torso + 2 * SKEWER_PROUD
 
 
-def stopper_offsets(d) -> tuple[tuple[float, float], tuple[float, float]]:
-    """World offsets (m) from a frame's axis of its two stopper skewers' centres, (rest, end). In the hollow card's
-    window (:func:`aero_env.parts.build.stopper_radius`): the rest stopper meets the hub bar's edge with the frame at
-    its rest angle, the end stopper with it at the end stop; each turns through the window between, so no other
-    frame's card comes near it. A flat card's (no window): the rest stopper touches the card's edge below the
-    counterbalance's arm, halfway out, at rest, and the end stopper the other edge at the end stop. The world's rotary
-    limits are where these skewers hold the card."""
-    sc = build.side_card(d)
-    out = []
-    for angle_deg, side in ((d.rest_angle_deg, 1.0), (d.stop_angle_deg, -1.0)):
-        a = math.radians(angle_deg)
-        if sc["hollow"]:  # against the hub bar's edge on the counterbalance's side, above the line at rest
-            s = build.HUB_BAR / 2 + build.SKEWER_D / 2
-            off = side * math.sqrt(float(build.stopper_radius(d)) ** 2 - s * s)
-        else:  # against the card's edge, La/2 out: below the line at rest, above it at the end stop
-            s, off = d.La / 2, -side * (float(sc["depth"]) / 2 + build.SKEWER_D / 2)
-        out.append((s * math.cos(a) - off * math.sin(a), s * math.sin(a) + off * math.cos(a)))
-    return out[0], out[1]
+def skewer_lengths(cfg, layout=None) -> dict[str, float]:
+    """Each skewer piece's length (m): an ``axis`` or a ``stopper`` spans the stand from one crossbeam's outer face
+    to the other's (:func:`aero_env.parts.layout.crossbeam_gap`, in the kit's layout unless ``layout`` is given);
+    the robot's ``axle`` (:func:`axle_length`). Each stands ``SKEWER_PROUD`` out at both ends. The bill of
+    materials and the 3D stand read these."""
+    beam = CROSSBEAM_LAYERS * build.CARD_THICKNESS
+    across = crossbeam_gap(cfg, layout) + 2 * beam + 2 * SKEWER_PROUD
+    return dict(axis=across, stopper=across, axle=axle_length(cfg.design))
 
 
 FRAME_MARK = 12.0  # mm: the frame line at rest, marked from each axis hole on the crossbeam (the card holds it)
@@ -351,7 +442,7 @@ def crossbeam_band(cfg) -> dict:
     def along(w):  # a world offset (m) to crossbeam coordinates (mm): u along the incline, v up from it
         return (w[0] * cb + w[1] * sb) * MM, (-w[0] * sb + w[1] * cb) * MM
 
-    rest, stop = (along(w) for w in stopper_offsets(d))
+    rest, stop = (along(w) for w in build.stopper_offsets(d))
     ray = math.radians(d.rest_angle_deg) - beta  # the frame line at rest, in the beam's frame: its mark on the card
     mark = (FRAME_MARK * math.cos(ray), FRAME_MARK * math.sin(ray))
     vs = [0.0, rest[1], stop[1], mark[1]]
@@ -438,7 +529,7 @@ def uprights(cfg) -> list[Piece]:
         if end == "last":
             base = base_board(cfg)
             caption += (f"BASE: any stiff board {base[0] * MM:.0f} x {base[1] * MM:.0f} mm, level; the two "
-                        f"crossbeams stand {CROSSBEAM_GAP * MM:.0f} mm apart, the frames between them.",)
+                        f"crossbeams stand {crossbeam_gap(cfg) * MM:.1f} mm apart, the frames between them.",)
         out.append(Piece(f"upright under the {end} axis", f"part-upright-{end}", 2, CROSSBEAM_LAYERS,
                          length * w / MM**2, (), "scene.floor_drop", 1, (), caption,
                          (_rect(0, 0, w, length), _line(0, length - foot, w, length - foot))))  # upright

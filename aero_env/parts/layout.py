@@ -37,7 +37,8 @@ from . import build
 
 CS = m3.CrossSection
 MM = 1e3
-GAP = 1.0e-3  # m: a narrow card's outer face to the wide card beside it
+GAP = 1.0e-3  # m: a narrow card's outer face to the wide card beside it; a crossbeam's inner face to the frames
+CROSSBEAM_GAP_MIN = build.RAIL_SPAN + 20.0e-3  # m: the two crossbeams' inner faces apart at the least
 CLEAR = 1.0  # mm: the least room a cut-away card keeps from a neighbour's part as it sweeps
 SLIVER = 1.4  # mm: half the narrowest strip kept (a strip under 2.8 mm is dropped: scissors cut 3 mm cleanly)
 SWEEP_STEP_DEG = 1.0  # the sweeps' step; consecutive poses are joined by their hull
@@ -93,10 +94,8 @@ def handrail_footprint(d) -> m3.CrossSection:
 
 def skewer_footprints(d) -> list[m3.CrossSection]:
     """A frame's axis skewer and its two stopper skewers, about its axis (mm): they stand still in the world."""
-    from .kit import stopper_offsets  # the kit places the stoppers (the kit does not import this module)
-
     r = build.SKEWER_D * MM / 2
-    return [disc(0.0, 0.0, r)] + [disc(ox * MM, oy * MM, r) for ox, oy in stopper_offsets(d)]
+    return [disc(0.0, 0.0, r)] + [disc(ox * MM, oy * MM, r) for ox, oy in build.stopper_offsets(d)]
 
 
 def _angles(d) -> list[float]:
@@ -172,9 +171,11 @@ def _fits(misfit: np.ndarray) -> bool:
     return bool(np.all(np.abs(misfit[:2]) <= FIT_MASS) and np.all(np.abs(misfit[2:]) * 10.0 <= FIT_CENTRE_MM))
 
 
-def fit_cut_card(sc: dict, keep_out: m3.CrossSection, pins: float) -> tuple[np.ndarray | None, np.ndarray]:
+def fit_cut_card(sc: dict, keep_out: m3.CrossSection, pins: float) -> tuple[np.ndarray | None, np.ndarray,
+                                                                             m3.CrossSection | None]:
     """The extents (``PARAMS``, mm) whose :func:`cut_card` weighs, balances and swings as the hollow card, or None,
-    and the last misfit. Nelder-Mead from a few fixed starts (deterministic), the first that fits wins."""
+    the last misfit, and the card that fits (cut from the keep-out as the fit saw it: the one to draw, so that what is
+    drawn is what fits). Nelder-Mead from a few fixed starts (deterministic), the first that fits wins."""
     half, V, e = float(sc["half_length"]) * MM, float(sc["depth"]) * MM / 2, float(sc["end"]) * MM
     strip = build.MIN_STRIP * MM
     lo = np.array([pins + strip, pins + strip, strip, strip, strip, strip, 0.0, 0.0])
@@ -190,9 +191,10 @@ def fit_cut_card(sc: dict, keep_out: m3.CrossSection, pins: float) -> tuple[np.n
         pass
 
     def cost(p):
-        m = misfit(p)
+        card = cut_card(sc, np.clip(p, lo, hi), keep_out, pins)
+        m = _misfit(sc, card)
         if _fits(m):  # the first point that fits ends the search: what comes after only polishes digits
-            raise Fitted(np.clip(p, lo, hi), m)
+            raise Fitted(np.clip(p, lo, hi), m, card)
         return float(np.sum(m**2))
 
     starts = ([V, V, e, e, strip, strip, 3.0, 0.0], [pins + strip + 1, V, e, e, strip, strip, 4.0, 0.5 * V],
@@ -203,9 +205,9 @@ def fit_cut_card(sc: dict, keep_out: m3.CrossSection, pins: float) -> tuple[np.n
             run = minimize(cost, np.array(start), method="Nelder-Mead",
                            options=dict(maxiter=3000, xatol=1e-7, fatol=1e-16, adaptive=True))
         except Fitted as done:
-            return done.args[0], done.args[1]
+            return done.args
         last = misfit(np.clip(run.x, lo, hi))
-    return None, last
+    return None, last, None
 
 
 # ---- the row ----------------------------------------------------------------------------------------------------
@@ -275,9 +277,9 @@ def _build_nested(cfg) -> RowLayout:
         misfit = None
         for layers in layers_tried(n):  # fewer layers leave more card to place, more leave less for the cut to take
             card = dict(sc, layers=layers)
-            extents, misfit = fit_cut_card(card, keep_out, pins)
+            extents, misfit, outline = fit_cut_card(card, keep_out, pins)
             if extents is not None:
-                found[name] = (cut_card(card, extents, keep_out, pins), tuple(float(x) for x in extents), layers)
+                found[name] = (outline, tuple(float(x) for x in extents), layers)
                 break
         else:
             reasons.append(f"no {name} card cut clear of its neighbours weighs and swings as the hollow card "
@@ -295,3 +297,56 @@ def _build_nested(cfg) -> RowLayout:
 def layers_tried(n: int) -> tuple[int, ...]:
     """The layer counts a cut-away card tries, in order: the hollow card's, then more, then fewer."""
     return tuple(k for k in (n, n + 1, n + 2, n - 1) if 1 <= k <= build.RING_LAYERS_MAX + 2)
+
+
+def identical_layout(cfg) -> RowLayout:
+    """Every frame alike, its hollow side cards ``RAIL_SPAN`` apart in the same two planes, its counterbalance
+    between them: the kit where no nested layout is found (and the kit as it was first drawn)."""
+    sc = build.side_card(cfg.design)
+    kind = FrameKind("identical", build.RAIL_SPAN, hollow_outline(sc), None, False, int(sc["layers"]))
+    return RowLayout("identical", (kind,) * cfg.scene.frames, True, "")
+
+
+def kit_layout(cfg) -> RowLayout:
+    """The layout the kit draws: the nested one where it is found, else every frame alike (which then does not
+    clear: the sheet says so)."""
+    row = nested_layout(cfg)
+    return row if row.found else identical_layout(cfg)
+
+
+def nested_refusal(cfg) -> str:
+    """Why the kit does not draw the nested layout ("" where it does)."""
+    row = nested_layout(cfg)
+    return "" if row.found else row.reason
+
+
+def counterbalance_stacks(d, outside: bool) -> list[tuple[str, int, bool]]:
+    """How a frame's counterbalance is stacked: (where, coins, clay on it) per stack. Between the cards, one stack
+    with its clay; outside, the coins halved onto the two outer faces (the odd one on the near card), the clay on
+    the far stack."""
+    coins = int(build.counterbalance_load(d.m3)["coins"])
+    if not outside:
+        return [("", coins, True)]
+    return [(" (near)", (coins + 1) // 2, False), (" (far)", coins // 2, True)]
+
+
+def reach_across(d, layout: RowLayout) -> float:
+    """m: how far from the row's middle plane any frame's part reaches across (its cards' outer faces, its coins
+    and clay on them)."""
+    load = build.counterbalance_load(d.m3)
+    clay = float(load["clay"]) / build.CLAY_DENSITY / (math.pi * build.YEN_COIN_RADIUS**2)
+    reach = 0.0
+    for k in layout.kinds:
+        outer = k.span / 2 + k.layers * build.CARD_THICKNESS
+        stacks = counterbalance_stacks(d, k.coins_outside) if k.coins_outside else []
+        tallest = max((n * build.YEN_COIN_THICKNESS + (clay if with_clay else 0.0) for _, n, with_clay in stacks),
+                      default=0.0)
+        reach = max(reach, outer + tallest)
+    return reach
+
+
+def crossbeam_gap(cfg, layout: RowLayout | None = None) -> float:
+    """m: the two crossbeams' inner faces apart, ``CROSSBEAM_GAP_MIN`` or wider, ``GAP`` clear of every frame's
+    parts in ``layout`` (the kit's unless given)."""
+    row = layout or kit_layout(cfg)
+    return max(CROSSBEAM_GAP_MIN, 2 * (reach_across(cfg.design, row) + GAP))

@@ -36,9 +36,10 @@ import manifold3d as m3
 import numpy as np
 
 from . import build
-from .kit import (CROSSBEAM_GAP, CROSSBEAM_LAYERS, SKEWER_PROUD, UPRIGHT_WIDTH, crossbeam_band, skewer_lengths,
-                  stopper_offsets)
-from .layout import GAP, FrameKind, RowLayout, hollow_outline
+from .build import stopper_offsets
+from .kit import CROSSBEAM_LAYERS, UPRIGHT_WIDTH, axle_length, crossbeam_band, skewer_lengths
+from .layout import FrameKind, RowLayout, counterbalance_stacks, crossbeam_gap, kit_layout
+from .layout import identical_layout  # noqa: F401 (the kit as first drawn, for callers of this module)
 
 MM = 1e-3  # m per mm: the kit's crossbeam lay-out is in mm
 SEGMENTS = 32  # a round part's sides: a skewer, a coin (the polygon sits inside the circle)
@@ -50,14 +51,6 @@ class Part3D:
     """One closed solid of the toy: ``name`` says which part, ``solid`` is in its group's coordinates (m)."""
     name: str
     solid: m3.Manifold
-
-
-def identical_layout(cfg) -> RowLayout:
-    """The kit as drawn: every frame alike, its hollow side cards ``RAIL_SPAN`` apart in the same two planes, its
-    counterbalance between them."""
-    sc = build.side_card(cfg.design)
-    kind = FrameKind("identical", build.RAIL_SPAN, hollow_outline(sc), None, False, int(sc["layers"]))
-    return RowLayout("identical", (kind,) * cfg.scene.frames, True, "")
 
 
 # ---- primitives -------------------------------------------------------------------------------------------------
@@ -112,28 +105,26 @@ def frame_parts(d, kind: FrameKind) -> list[Part3D]:
 
 
 def counterbalance_parts(d, outer: float | None) -> list[Part3D]:
-    """The counterbalance's whole coins and its clay (a disc of the coins' size) on (La, h): one stack centred
-    between the cards (``outer`` None), or, with the cards' outer faces ``outer`` apart, half the coins on each
-    outer face and the clay on the far one's coins."""
+    """The counterbalance's whole coins and its clay (a disc of the coins' size) on (La, h), stacked as
+    :func:`aero_env.parts.layout.counterbalance_stacks` says: one stack centred between the cards (``outer`` None),
+    or, with the cards' outer faces ``outer`` apart, a stack on each outer face, the clay on the far one's coins."""
     load = build.counterbalance_load(d.m3)
-    coins, clay = int(load["coins"]), float(load["clay"])
+    clay = float(load["clay"])
     r, c = build.YEN_COIN_RADIUS, build.YEN_COIN_THICKNESS
     clay_height = clay / build.CLAY_DENSITY / (math.pi * r**2)
-    if outer is None:
-        z0 = -(coins * c + clay_height) / 2
-        stacks = [("", coins, z0, +1.0)]
-    else:
-        stacks = [(" (near)", (coins + 1) // 2, outer / 2, +1.0), (" (far)", coins // 2, -outer / 2, -1.0)]
+    stacks = counterbalance_stacks(d, outer is not None)
     out = []
-    for where, n, z0, way in stacks:
+    for where, n, with_clay in stacks:
+        if outer is None:
+            z0, way = -(n * c + clay_height) / 2, 1.0
+        else:
+            z0, way = (outer / 2, 1.0) if where == " (near)" else (-outer / 2, -1.0)
+        z1 = z0 + way * n * c
         if n:
-            z1 = z0 + way * n * c
             out.append(Part3D(f"counterbalance coins{where} ({n})", rod(d.La, d.h, r, min(z0, z1), max(z0, z1))))
-    if clay > 0:
-        where, n, z0, way = stacks[-1]
-        z0 = z0 + way * n * c
-        z1 = z0 + way * clay_height
-        out.append(Part3D(f"counterbalance clay ({clay * 1e3:.1f} g)", rod(d.La, d.h, r, min(z0, z1), max(z0, z1))))
+        if with_clay and clay > 0:
+            z2 = z1 + way * clay_height
+            out.append(Part3D(f"counterbalance clay ({clay * 1e3:.1f} g)", rod(d.La, d.h, r, min(z1, z2), max(z1, z2))))
     return out
 
 
@@ -149,7 +140,7 @@ def stand_parts(cfg, layout: RowLayout) -> list[Part3D]:
     d, s = cfg.design, cfg.scene
     band = crossbeam_band(cfg)
     t_beam = CROSSBEAM_LAYERS * build.CARD_THICKNESS
-    inner = max(CROSSBEAM_GAP / 2, reach_across(d, layout) + GAP)  # the crossbeams clear every frame's parts
+    inner = crossbeam_gap(cfg, layout) / 2  # the crossbeams clear every frame's parts
     z_out = inner + t_beam
     beam_length = ((s.frames - 1) * band["step"] + band["u_hi"] - band["u_lo"]) * MM
     out = []
@@ -157,8 +148,7 @@ def stand_parts(cfg, layout: RowLayout) -> list[Part3D]:
         beam = box(band["u_lo"] * MM, band["u_lo"] * MM + beam_length, band["v_lo"] * MM, band["v_hi"] * MM, z0, z1)
         out.append(Part3D(f"crossbeam ({side})", beam.rotate((0.0, 0.0, math.degrees(band["beta"])))))
     rest, stop = stopper_offsets(d)
-    lengths = skewer_lengths(d)
-    half = max(lengths["axis"] / 2, z_out + SKEWER_PROUD)  # each skewer as proud of the crossbeams as the kit's
+    half = skewer_lengths(cfg, layout)["axis"] / 2
     r = build.SKEWER_D / 2
     for i in range(s.frames):
         ax, ay = i * s.pitch, i * s.rise
@@ -184,7 +174,7 @@ def torso_parts(d) -> list[Part3D]:
     torso_length = float(d.torso_length)
     plate = build.torso_plate(d, torso_length)
     w, t = float(plate["width"]), float(plate["layers"]) * build.CARD_THICKNESS
-    axle = skewer_lengths(d)["axle"]  # through the torso and across the arm's width, centred on the plane
+    axle = axle_length(d)  # through the torso and across the arm's width, centred on the plane
     card = box(-w / 2, w / 2, -torso_length, build.END, -t / 2, t / 2) - rod(0.0, 0.0, build.HOLE_D / 2, -t, t)
     coins = build.coin_stack(d)["coins"] * build.YEN_COIN_THICKNESS
     return [Part3D("torso", card),
@@ -222,22 +212,11 @@ class Assembly:
     arm: tuple[Part3D, ...]
 
 
-def reach_across(d, layout: RowLayout) -> float:
-    """m: how far from the row's middle plane any frame's part reaches across (its cards' outer faces, its coins)."""
-    load = build.counterbalance_load(d.m3)
-    r = build.YEN_COIN_RADIUS
-    stack = ((int(load["coins"]) + 1) // 2) * build.YEN_COIN_THICKNESS
-    stack = max(stack, (int(load["coins"]) // 2) * build.YEN_COIN_THICKNESS
-                + float(load["clay"]) / build.CLAY_DENSITY / (math.pi * r**2))
-    return max(k.span / 2 + k.layers * build.CARD_THICKNESS + (stack if k.coins_outside else 0.0)
-               for k in layout.kinds)
-
-
 def assembly(cfg, layout: RowLayout | None = None) -> Assembly:
-    """Every part of ``cfg``'s row as a closed solid, in ``layout`` (default: :func:`identical_layout`, the kit as
-    drawn; :func:`aero_env.parts.layout.nested_layout` is the layout that clears)."""
+    """Every part of ``cfg``'s row as a closed solid, in ``layout`` (default: the kit's,
+    :func:`aero_env.parts.layout.kit_layout`: the nested layout where it is found, else every frame alike)."""
     d, s = cfg.design, cfg.scene
-    layout = layout or identical_layout(cfg)
+    layout = layout or kit_layout(cfg)
     if len(layout.kinds) != s.frames:
         raise ValueError(f"layout {layout.name!r}: {len(layout.kinds)} frames for {s.frames}")
     frames = tuple(tuple(frame_parts(d, kind)) for kind in layout.kinds)

@@ -30,7 +30,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 
 from .. import units
 from ..config import Config
-from ..parts.kit import stopper_offsets
+from ..parts.build import stopper_offsets
 from . import body_state, check_kernel
 from .drag import AirDrag
 from .engine_params import EngineParams, to_engine

@@ -142,13 +142,17 @@ def clearance_lines(cfg: Config) -> list[str]:
     """The static sweep's verdict in the sheet: each frame turned from rest to its end stop against the other
     frames (at rest and at their end stops) and the stand."""
     from ..parts.clearance import TOUCH, static_sweep
+    from ..parts.layout import nested_refusal
     from ..parts.solids import assembly
 
     asm = assembly(cfg)
     contacts = static_sweep(asm)
+    refused = nested_refusal(cfg)
+    layout = (f"{asm.layout.name}, narrow and wide frames alternating" if not refused else
+              f"{asm.layout.name}, every frame alike: the nested layout does not serve this design, as {refused}")
     head = (f"Each frame turned from rest to its end stop in 1 deg steps against the other frames (at rest and at "
-            f"their end stops) and the stand, as 3D solids in the kit's layout ({asm.layout.name}; "
-            f"`assembly.glb` shows it):")
+            f"their end stops) and the stand, as 3D solids in the kit's layout ({layout}; `assembly.glb` shows "
+            f"it):")
     if not contacts:
         return [head + f" **the parts clear** (no two share more than {TOUCH * 1e9:.0f} mm³)."]
     frames = sorted({c.frame for c in contacts})

@@ -175,12 +175,14 @@ def draw_shape(pdf: canvas.Canvas, s: Shape, at) -> None:
     elif s.tag == "circle":
         x, y, r = s.xy
         pdf.circle(*at(x, y), r * mm, stroke=1, fill=0)
-    else:
+    else:  # a line, or a polygon's outline (closed)
         pts = [at(s.xy[k], s.xy[k + 1]) for k in range(0, len(s.xy), 2)]
         path = pdf.beginPath()
         path.moveTo(*pts[0])
         for q in pts[1:]:
             path.lineTo(*q)
+        if s.tag == "polygon":
+            path.close()
         pdf.drawPath(path, stroke=1, fill=0)
 
 

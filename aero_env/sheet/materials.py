@@ -28,7 +28,7 @@ def glued_area(ps: list[Piece]) -> float:
 
 def skewer_pieces(cfg: Config) -> list[tuple[str, int, float]]:
     """(what, how many, length in m) of each skewer piece the row needs."""
-    lengths, frames = skewer_lengths(cfg.design), cfg.scene.frames
+    lengths, frames = skewer_lengths(cfg), cfg.scene.frames
     return [("rotation axis", frames, lengths["axis"]), ("stopper", 2 * frames, lengths["stopper"]),
             ("robot's axle", 1, lengths["axle"])]
 

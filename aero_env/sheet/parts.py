@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from ..config import CARD_PAIRS, Config
 from ..parts.build import counterbalance_load, side_card
 from ..parts.card import PAPER_CARD, Card
-from ..parts.kit import pieces
+from ..parts.kit import pieces, shapes_extent
 from ..parts.spring_strip import GLUE_TAB, bench_loads, linear_equivalent, plan_strip
 
 
@@ -43,8 +43,20 @@ def coins_and_clay(x_kg: float) -> str:
     return f"{coins} one-yen coin{'' if coins == 1 else 's'} + {clay * 1e3:.2f} g clay ({grams(x_kg)})"
 
 
-def laminate(piece) -> str:
-    return "one layer" if piece.layers == 1 else f"{piece.layers} layers glued flat"
+def cut_extent(piece) -> tuple[float, float]:
+    """(length, depth) in mm of a cut piece's outline overall."""
+    x0, y0, x1, y1 = shapes_extent([s for s in piece.shapes if s.kind == "cut"])
+    return x1 - x0, y1 - y0
+
+
+def laminate(piece_or_layers) -> str:
+    n = piece_or_layers if isinstance(piece_or_layers, int) else piece_or_layers.layers
+    return "one layer" if n == 1 else f"{n} layers glued flat"
+
+
+def kind_frames(cfg: Config, kind: str) -> str:
+    """The frames of a kind in the nested layout, as the sheet names them: "0, 2, 4, 6"."""
+    return ", ".join(str(i) for i in range(0 if kind == "narrow" else 1, cfg.scene.frames, 2))
 
 
 def workbench(key: str, value: float, cfg: Config) -> str:
@@ -107,15 +119,24 @@ def lines(cfg: Config) -> list[Line]:
     bend = math.radians(d.alpha_max_deg - d.alpha_min_deg)
     # the scene's spring law (physics/leaf_spring.py): linear k·da, or stiffening k/2·da²
     full_torque = d.spring_k * (bend if cfg.scene.effects.spring_law == "linear" else bend * bend / 2)
-    kit = {p.name: p for p in pieces(cfg)}
-    side, arm, torso = kit["swing frame side card"], kit["arm"], kit["torso"]
+    ps = pieces(cfg)
+    kit = {p.id: p for p in ps}
+    arm, torso = kit["part-arm"], kit["part-torso"]
     sc = side_card(d)
+    cut = [Line("swing frame", f"the {kind} frames' side cards instead ({kind_frames(cfg, kind)}: cut where the "
+                               f"neighbours pass)",
+                f"{grams(p.mass_kg)} each: {mm(cut_extent(p)[0] * 1e-3)} x {mm(cut_extent(p)[1] * 1e-3)} overall, "
+                f"{laminate(p)}")
+           for p in ps for kind in ("narrow", "wide")
+           if p.id == f"part-frame-side-card-{kind}" and any(sh.tag == "polygon" for sh in p.shapes)]
     return [
         Line("swing frame", "skewer hole to counterbalance (La)", mm(d.La)),
         Line("swing frame", "skewer hole to handrail seat (Lb)", mm(d.Lb)),
         Line("swing frame", "counterbalance offset across the frame line (h)", mm(d.h)),
         Line("swing frame", "its card (m1): two side cards, each of them", f"{grams(d.m1 / 2)} (both: {grams(d.m1)}): "
-             f"{mm(sc['length'])} x {mm(sc['depth'])}, {'hollow, ' if sc['hollow'] else ''}{laminate(side)}"),
+             f"{mm(sc['length'])} x {mm(sc['depth'])}, {'hollow, ' if sc['hollow'] else ''}"
+             f"{laminate(int(sc['layers']))}"),
+        *cut,
         Line("swing frame", "rest angle (the stopper skewer holds it there) / end stop",
              f"{d.rest_angle_deg:.1f} deg / {d.stop_angle_deg:.1f} deg"),
         Line("counterbalance", "mass at (La, h) (m3)", coins_and_clay(d.m3)),

@@ -22,7 +22,8 @@ from ..config import Config
 from ..parts.build import END as END_M
 from ..parts.build import side_card, stopper_radius
 from ..parts.card import PAPER_CARD, Card
-from ..parts.kit import HOLE_R, Piece, Shape, no_spring, pieces, shapes_extent, stopper_offsets
+from ..parts.build import stopper_offsets
+from ..parts.kit import HOLE_R, Piece, Shape, no_spring, pieces, shapes_extent
 
 END = END_M * 1e3  # mm
 HOLE = HOLE_R  # mm, the hole radius for a skewer (frames) or the axle (the arm and torso)
@@ -63,6 +64,9 @@ def render(shape: Shape) -> str:
         return _rect(*shape.xy, style)
     if shape.tag == "circle":
         return _circle(*shape.xy, style)
+    if shape.tag == "polygon":
+        points = " ".join(f"{shape.xy[k]:.2f},{shape.xy[k + 1]:.2f}" for k in range(0, len(shape.xy), 2))
+        return f'<polygon points="{points}" {style}/>'
     return _line(*shape.xy, style)
 
 

@@ -171,7 +171,7 @@ def tolerance(knob: Knob, cfg: Config) -> tuple[float, str]:
 def stopper_arc(cfg: Config) -> float:
     """mm round its arc that the rest stopper's hole moves for one degree of rest angle (the hole turns with the
     rest angle about the axis hole, at its distance from it)."""
-    from ..parts.kit import stopper_offsets
+    from ..parts.build import stopper_offsets
 
     rest, _ = stopper_offsets(cfg.design)
     return math.hypot(*rest) * 1e3 * math.pi / 180.0
