@@ -121,6 +121,9 @@ def _table(r) -> str:
     lines.append(f"outcome: {r.outcome} ({r.reason})")
     lines.append(f"traversals: {r.traversals} of {r.frames - 1}   simulated {r.sim_time:.3f} s in {r.wall_time:.3f} s "
                  f"wall ({r.sim_time / max(r.wall_time, 1e-9):.1f}x real time) at fidelity {r.fidelity}")
+    if not e:  # nothing was simulated (collides: the kit's parts meet)
+        lines.append("energy, health: - (nothing simulated)")
+        return "\n".join(lines)
     lines.append(f"energy: initial {e['initial']:.6f} J, final {e['final']:.6f} J, max gain {e['max_gain']:.2e} J, "
                  f"max rise {e['max_rise']:.2e} J")
     h = r.health

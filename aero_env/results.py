@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
 
+COLLIDES = "collides"  # the outcome of a run whose kit's parts meet (scene.effects.clearance): not simulated
+
 
 @dataclass
 class Swing:

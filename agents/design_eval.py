@@ -16,6 +16,7 @@ import numpy as np
 
 from aero_env.config import Config, ConfigError
 from aero_env.envs import AerialAcrobatEnv
+from aero_env.results import COLLIDES
 from aero_env.reward import reward
 from aero_env.simulation import simulate
 
@@ -130,7 +131,8 @@ class DesignEvaluator:
                 continue
             for u in self.factors:
                 b = build(cfg, self.tols, u)
-                runs.append(_run(b.config) if b.config is not None else (0.0, 0, "invalid_build"))
+                runs.append((0.0, 0, "invalid_build") if b.config is None else
+                            (0.0, 0, COLLIDES) if b.collides is not None else _run(b.config))
         if not self.space.draws_anything:
             runs *= len(self.seeds)
         rewards, traversals, outcomes = zip(*runs)

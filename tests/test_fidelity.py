@@ -267,7 +267,8 @@ def test_bench_effects_counts_the_outcomes_each_effect_changes(capsys):
                      "--set", "scene.frames=3", "--json"]) == 0
     rep = json.loads(capsys.readouterr().out)
     rows = {r["effect"]: r for r in rep["effects"]}
-    assert set(rows) == {"drag", "static_kinetic", "live_frames", "pivot_friction", "axle_friction", "spring_damping"}
+    assert set(rows) == {"drag", "static_kinetic", "live_frames", "pivot_friction", "axle_friction", "spring_damping",
+                         "clearance"}
     assert rows["drag"]["scene"] is False and rows["static_kinetic"]["scene"] == "static_kinetic"
     # the dry frictions are measured at the scene's own value against no part at all
     assert rows["pivot_friction"]["scene"] == 1.185e-4 and rows["pivot_friction"]["off"] == 0.0
@@ -275,7 +276,8 @@ def test_bench_effects_counts_the_outcomes_each_effect_changes(capsys):
     assert rows["spring_damping"]["scene"] == 0.0 and rows["spring_damping"]["on"] == 0.02
     toggled = {"drag": {"scene.effects.drag": True}, "static_kinetic": {"scene.effects.friction": "kinetic"},
                "live_frames": {"scene.effects.live_frames": 3}, "pivot_friction": {"design.pivot_friction": 0.0},
-               "axle_friction": {"design.axle_friction": 0.0}, "spring_damping": {"design.spring_damping": 0.02}}
+               "axle_friction": {"design.axle_friction": 0.0}, "spring_damping": {"design.spring_damping": 0.02},
+               "clearance": {"scene.effects.clearance": True}}
     scene = [i["traversals"] for i in _env_runs({"scene.frames": 3}, 3, EFFECTS_SEED)]
     for name, overrides in toggled.items():
         other = [i["traversals"] for i in _env_runs({"scene.frames": 3, **overrides}, 3, EFFECTS_SEED)]

@@ -55,6 +55,11 @@ def test_the_scenes_command_reports_the_suites_headroom(capsys):
                           "solution_traversals"}
         assert r["solution_traversals"] == {"mbd": r["full_row"]} and r["solution_changes_scene"] == []
         assert r["prototype_traversals"] == simulate(load_config(r["config"])).traversals
+    # the kits drawn for the stored solutions: the steep rows' handrails meet in any layout (test_nested_layout.py,
+    # test_solids.py); the others clear in the nested layout
+    assert {r["name"]: r["solution_kit"].split(":")[0] for r in rows} == {
+        "gray_card": "clears", "heavy_steep_gray": "collides", "light_frames": "clears", "six_coins": "clears",
+        "steep": "collides", "wide_pitch": "clears"}
     # headroom: scenes the paper's design fails, and scenes random designs rarely complete
     assert sum(r["prototype_traversals"] < r["full_row"] for r in rows) >= 2
     assert sum(r["random_full_row_share"] <= 0.2 for r in rows) >= 2
@@ -70,6 +75,7 @@ def test_a_solution_that_changes_the_scene_is_not_one(tmp_path, capsys):
     assert main(["scenes", "--dir", str(tmp_path), "--designs", "1", "--workers", "1", "--no-reference"]) == 0
     out = capsys.readouterr().out
     assert "NOT A SOLUTION: it changes design.coin_mass, design.m2" in out
+    assert out.splitlines()[2].split()[5] == "clears"  # its kit: the nested layout, swept
 
 
 @pytest.mark.parametrize("argv, line", [

@@ -11,7 +11,10 @@ reports what a benchmark needs to mean something:
 - ``random_full_row_share``: the share of ``--designs`` designs drawn uniformly from the scene's
   action box that complete the row (its difficulty: what search must beat);
 - ``solution_traversals``: the stored solution at the scene's own fidelity (``mbd``) and re-checked
-  at ``reference``, so the answer is not an artefact of the step.
+  at ``reference``, so the answer is not an artefact of the step;
+- ``solution_kit``: whether the kit drawn for the stored solution clears as its frames turn
+  (:func:`aero_env.parts.clearance.kit_clearance`, what ``scene.effects.clearance`` asks): ``clears``, or
+  ``collides`` and its first meeting, so a solution a maker cannot build is seen as such.
 
 A scene without a stored solution is listed with ``solution: null``: it is not a benchmark.
 """
@@ -48,6 +51,7 @@ class SceneFigures:
     solution: str | None
     solution_traversals: dict  # fidelity -> traversals
     solution_changes_scene: list  # keys outside the scene's tunables that the solution changed (none: a fair answer)
+    solution_kit: str = ""  # "clears", or "collides: " and the first meeting of the solution's kit's parts
 
 
 def scene_paths(folder: str | os.PathLike) -> list[Path]:
@@ -79,15 +83,23 @@ def measure(scene: Path, designs: int, seed: int, pool, reference: bool) -> Scen
     sample = draw_designs(cfg, designs, seed)
     runs = list(pool.map(_traversals, sample.configs)) if pool else [_traversals(c) for c in sample.configs]
     share = sum(t == full for t, _ in runs) / designs
-    sol, sol_traversals, changed = solution_path(scene), {}, []
+    sol, sol_traversals, changed, kit = solution_path(scene), {}, [], ""
     if sol.exists():
         solved = load_config(sol)
         changed = changes_outside_tunables(cfg, solved)
         sol_traversals[solved.sim.fidelity] = _traversals(solved)[0]
         if reference:
             sol_traversals[REFERENCE] = _traversals(load_config(sol, {"sim.fidelity": REFERENCE}))[0]
+        kit = _kit(solved)
     return SceneFigures(scene.stem, str(scene), full, proto, outcome, designs, share,
-                        str(sol) if sol.exists() else None, sol_traversals, changed)
+                        str(sol) if sol.exists() else None, sol_traversals, changed, kit)
+
+
+def _kit(cfg) -> str:
+    from ..parts.clearance import kit_clearance
+
+    verdict = kit_clearance(cfg)
+    return "clears" if verdict.clears else f"collides: {verdict.first.line()}"
 
 
 def suite(folder: str | os.PathLike = DEFAULT_DIR, designs: int = DEFAULT_DESIGNS, seed: int = DEFAULT_SEED,
@@ -100,18 +112,24 @@ def suite(folder: str | os.PathLike = DEFAULT_DIR, designs: int = DEFAULT_DESIGN
 
 
 def table(rows: list[SceneFigures], wall: float) -> str:
-    lines = [f"{'scene':18} {'prototype':>9} {'random':>8} {'solution':>9} {'reference':>9}  solution config",
-             f"{'':18} {'(row)':>9} {'full row':>8} {'(mbd)':>9} {'':>9}"]
+    lines = [f"{'scene':18} {'prototype':>9} {'random':>8} {'solution':>9} {'reference':>9} {'its kit':>8}  "
+             f"solution config",
+             f"{'':18} {'(row)':>9} {'full row':>8} {'(mbd)':>9} {'':>9} {'':>8}"]
     for r in rows:
         sol = r.solution_traversals
         mbd = next((v for k, v in sol.items() if k != REFERENCE), None)
         lines.append(f"{r.name:18} {f'{r.prototype_traversals}/{r.full_row}':>9} {r.random_full_row_share:>8.0%} "
                      f"{(f'{mbd}/{r.full_row}' if mbd is not None else '-'):>9} "
-                     f"{(f'{sol[REFERENCE]}/{r.full_row}' if REFERENCE in sol else '-'):>9}  {r.solution or 'none'}"
+                     f"{(f'{sol[REFERENCE]}/{r.full_row}' if REFERENCE in sol else '-'):>9} "
+                     f"{(r.solution_kit.split(':')[0] or '-'):>8}  {r.solution or 'none'}"
                      + (f" (NOT A SOLUTION: it changes {', '.join(r.solution_changes_scene)})"
                         if r.solution_changes_scene else ""))
     n = rows[0].random_designs if rows else 0
-    lines.append(f"random: the share of {n} uniformly drawn designs completing the row; {wall:.1f} s wall")
+    lines.append(f"random: the share of {n} uniformly drawn designs completing the row; its kit: whether the parts of "
+                 f"the kit drawn for the solution clear as its frames turn (scene.effects.clearance); "
+                 f"{wall:.1f} s wall")
+    lines += [f"  {r.name}'s kit collides: {r.solution_kit.split(': ', 1)[1]}" for r in rows
+              if r.solution_kit.startswith("collides")]
     return "\n".join(lines)
 
 

@@ -115,6 +115,9 @@ class Effects:
     hook: str = spec("contact", "-", "contact: the frictional hook on the notched handrail; pin: the two-link model "
                      "(hook pinned to frame 0, robot one rigid body with m2, Lc, I2; for checking the world)",
                      choices=("contact", "pin"))
+    clearance: bool = spec(False, "-", "check first that the kit's parts clear each other as every frame turns "
+                           "(its layout fitted, the row swept in 3D: up to half a minute a design, then kept); "
+                           "a design whose parts meet ends as 'collides'")
 
 
 @dataclass(frozen=True)

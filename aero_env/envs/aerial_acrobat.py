@@ -171,6 +171,7 @@ class AerialAcrobatEnv(gym.Env):
     | a failed transfer that flew (shaping on): ``fell_short``, ``missed_catch`` (a catch that did not hold included: its miss is its distance to that seat) | ``+ env.reward_shaping · max(0, 1 - miss_distance / pitch)`` |
     | a hook that never let go: ``stalled``, ``no_detach`` | +0, however near the next seat it hung       |
     | ``unstable`` (the engine lost the state)  | 0 in all: its numbers are not physics                    |
+    | ``collides`` (``scene.effects.clearance`` on: the kit's parts meet as its frames turn, nothing simulated) | 0 |
 
     Shaping is off by default (``env.reward_shaping: 0``); its weight is below 1, so partial
     credit never outweighs one more real traversal. Credit is only for how close a real flight
@@ -289,6 +290,8 @@ class AerialAcrobatEnv(gym.Env):
       env does not read.
     * v0: ``AerialAcrobatContexts-Hard-v0`` (``configs/contexts_hard.yaml``: the maker's contexts over a room's
       range, rows that fall or climb, on the 8-frame row); the other ids unchanged.
+    * v0: ``scene.effects.clearance`` (off in every registered id): a design whose kit's parts meet ends as
+      ``collides`` with reward 0; with it off, every run as before.
     """
 
     metadata = {"render_modes": ["human", "rgb_array", "rgb_array_list"], "render_fps": ANIMATION_FPS}

@@ -103,3 +103,67 @@ def static_sweep(asm: Assembly, step_deg: float = STEP_DEG, frames=None) -> list
                     found[key] = Contact(i, part.name, name, where, seen.angle_deg if seen else math.degrees(theta),
                                          max(volume, seen.volume if seen else 0.0))
     return sorted(found.values(), key=lambda c: (c.frame, c.angle_deg, c.part, c.where, c.other))
+
+
+# ---- the kit's verdict, as a scene effect reads it ---------------------------------------------------------------
+@dataclass(frozen=True)
+class KitClearance:
+    """Whether the kit drawn for a design (:func:`aero_env.parts.layout.kit_layout`) clears as its frames turn:
+    ``first`` the earliest meeting (None: it clears), ``meetings`` how many pairs of parts meet (as ``turned``
+    turns: the frames swept), ``refused`` why the nested layout does not serve the design ("" where the kit draws
+    it)."""
+    first: Contact | None
+    meetings: int
+    refused: str
+    turned: tuple[int, ...] = ()
+
+    @property
+    def clears(self) -> bool:
+        return self.first is None
+
+    def reason(self) -> str:
+        """The run's one line where the parts meet (``collides``): the first meeting, then how the kit is laid out."""
+        if self.first is None:
+            return "the kit's parts clear each other through every frame's swing"
+        how = (f"every frame drawn alike, as the nested layout does not serve this design: {self.refused}"
+               if self.refused else "in the nested layout")
+        which = f" as frame {self.turned[0]} turns" if len(self.turned) == 1 else ""
+        return (f"the kit's parts meet ({self.meetings} pairs{which}): {self.first.line()}; {how} "
+                f"(scene.effects.clearance)")
+
+
+KIT_CLEARANCE_KEPT = 256  # designs whose verdict a process keeps (a layout fit and a sweep take seconds each)
+_VERDICTS: dict = {}
+
+
+def kit_clearance(cfg) -> KitClearance:
+    """The static sweep (:func:`static_sweep`, 1 deg steps) of the row as the kit draws it for ``cfg``: the nested
+    layout where it is found, every frame turned; else every frame alike, where frame 1 turning is enough to say so
+    (the whole row if frame 1 meets nothing). Kept per design and row (the same design on another seed or another
+    draw of the scene's context costs nothing more); the first call for a design fits the layout (seconds) and
+    sweeps the row (seconds)."""
+    from .layout import nested_refusal
+    from .solids import assembly
+
+    s = cfg.scene
+    key = (cfg.design, s.frames, s.pitch, s.rise, s.floor_drop)
+    if key not in _VERDICTS:
+        asm, refused = assembly(cfg), nested_refusal(cfg)
+        turned = (min(1, s.frames - 1),) if refused else tuple(range(s.frames))
+        contacts = static_sweep(asm, frames=turned)
+        if not contacts and len(turned) < s.frames:
+            turned = tuple(range(s.frames))
+            contacts = static_sweep(asm, frames=turned)
+        first = min(contacts, key=lambda c: (c.angle_deg, c.frame, c.part, c.where, c.other), default=None)
+        if len(_VERDICTS) >= KIT_CLEARANCE_KEPT:
+            _VERDICTS.pop(next(iter(_VERDICTS)))
+        _VERDICTS[key] = KitClearance(first, len(contacts), refused, turned)
+    return _VERDICTS[key]
+
+
+def forget_verdicts() -> None:
+    """Drop the kept verdicts and layouts (a benchmark times a design's first check)."""
+    from . import layout
+
+    _VERDICTS.clear()
+    layout._KEPT.clear()

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..config import Config, ConfigError
 from ..process_pool import worker_pool
+from ..results import COLLIDES
 from .tolerances import Tol, built_values
 
 INVALID = "invalid_build"  # the outcome of a build the config (or the world builder) rejects
@@ -34,6 +35,7 @@ class Build:
     values: dict
     config: Config | None
     error: str | None = None
+    collides: str | None = None  # why the kit it is built from does not clear (scene.effects.clearance)
 
 
 @dataclass(frozen=True)
@@ -57,9 +59,18 @@ def build(cfg: Config, tols: Sequence[Tol], u: Sequence[float]) -> Build:
     for t, ui in zip(tols, u):
         values.update(built_values(cfg, t, float(ui)))
     try:
-        return Build(values, cfg.with_values(values))
+        built = cfg.with_values(values)
     except ConfigError as exc:
         return Build(values, None, str(exc))
+    if not cfg.scene.effects.clearance:
+        return Build(values, built)
+    # the kit is drawn, and its cards cut, for the design: a hand-made build of it is judged by that kit (its
+    # small errors are not swept again), so it collides where the design's kit does and clears where it clears
+    from ..parts.clearance import kit_clearance
+
+    verdict = kit_clearance(cfg)
+    return Build(values, built.replace({"scene.effects.clearance": False}),
+                 collides=None if verdict.clears else verdict.reason())
 
 
 def single_change(cfg: Config, tols: Sequence[Tol], index: int, end: float) -> Build:
@@ -71,6 +82,8 @@ def _run_one(job: tuple[Callable, Build]) -> Run:
     simulator, b = job
     if b.config is None:
         return Run(0, INVALID, b.error or "")
+    if b.collides is not None:
+        return Run(0, COLLIDES, b.collides)
     try:
         r = simulator(b.config)
     except ConfigError as exc:

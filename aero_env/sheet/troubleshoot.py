@@ -152,6 +152,7 @@ SEEN = {  # what a maker sees for each outcome, in words
     "stalled": "the robot hangs and the frame never turns, or turns back before the robot lets go",
     "unstable": "(the world could not follow this build: a time step too large for it)",
     "timeout": "(the world ran out of time: report it)",
+    "collides": "the frames, or their parts, run into each other as they turn",
 }
 
 

@@ -70,14 +70,30 @@ def reduced_batch(base: Config, episodes: Sequence[Mapping[str, float]]):
     if _as_arrays(episodes):
         try:
             batch = simulate_designs(base, episodes)
-            return batch, designs_reward(batch, base, episodes).astype(np.float64)
         except ConfigError as exc:  # a value refused: the configs below refuse it in with_values' words
             refusal = exc
+        else:
+            mark_collisions(batch, base, episodes)
+            return batch, designs_reward(batch, base, episodes).astype(np.float64)
     cfgs = [base.with_values(e) for e in episodes]
     if refusal is not None:  # ... they did not: the two checks disagree
         FALLBACKS.record(refusal)
     batch = simulate_batch(cfgs)
+    mark_collisions(batch, base, episodes, cfgs)
     return batch, batch_reward(batch, cfgs).astype(np.float64)
+
+
+def mark_collisions(batch, base: Config, episodes: Sequence[Mapping[str, float]], cfgs=None) -> None:
+    """With ``scene.effects.clearance`` on, each episode whose kit's parts meet becomes ``collides``
+    (:func:`aero_env.simulation.collides`, as the single env runs it); off, nothing (and no cost)."""
+    if not base.scene.effects.clearance:
+        return
+    from ...parts.clearance import kit_clearance
+
+    for i, e in enumerate(episodes):
+        verdict = kit_clearance(base.with_values(e) if cfgs is None else cfgs[i])
+        if not verdict.clears:
+            batch.collide(i, verdict.reason())
 
 
 def reduced_columns(base: Config, columns: Mapping[str, np.ndarray]):
@@ -86,7 +102,7 @@ def reduced_columns(base: Config, columns: Mapping[str, np.ndarray]):
     rewards bit for bit. None where the arrays cannot go in as they are (a field the model does not read, no
     field at all) or the model refuses a value: the caller then runs the episodes' dicts through
     :func:`reduced_batch`, which words a refusal as the single env does."""
-    if not columns or not set(columns) <= READ_KEYS:
+    if not columns or not set(columns) <= READ_KEYS or base.scene.effects.clearance:  # clearance: per design
         return None
     try:
         batch = simulate_values(base, columns)

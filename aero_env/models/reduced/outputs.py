@@ -9,7 +9,7 @@ import numpy as np
 
 from ... import reasons as say
 from ...physics.swing_rules import TURN_BACK_DEG
-from ...results import SimResult, Swing
+from ...results import COLLIDES, SimResult, Swing
 from .layout import (OUTCOMES, R_AHEAD, R_AT_REST, R_BARRIER, R_BARRIER_REST, R_BEHIND, R_COMPLETED, R_GRAZE,
                      R_HELD_LONG, R_LET_GO, R_LOW, R_NEVER_DOWN, R_STIFF, R_STOP_HOLD, R_TIMEOUT, R_TURN_BACK,
                      R_T_MAX, R_TURN_NEAR_STOP, R_WEAK, REASON_OUTCOME, O, P, W)
@@ -38,16 +38,25 @@ class BatchResult:
     energy: dict | None = field(repr=False, default=None)
     wall_time: float = 0.0
     _text: dict = field(repr=False, default_factory=dict)
+    collided: dict = field(repr=False, default_factory=dict)  # design i -> why its kit's parts meet (collides)
 
     def __len__(self) -> int:
         return len(self.traversals)
+
+    def collide(self, i: int, reason: str) -> None:
+        """Design i's kit does not clear (``scene.effects.clearance``): its run becomes ``collides``, no traversal,
+        no miss, no flight, whatever the model swung."""
+        self.outcome[i], self.traversals[i], self.miss_distance[i] = COLLIDES, 0, np.nan
+        self.collided[i] = reason
 
     @property
     def flew(self) -> np.ndarray:
         """bool: the run ended in a flight, as :attr:`aero_env.results.SimResult.flew`: the hook let go of the
         last frame that caught it (that frame's ``t_detach`` is recorded) and the next frame did not catch it."""
         t_detach = self.swings["t_detach"][np.arange(len(self)), self.last_frame]
-        return (self.outcome != "completed") & np.isfinite(t_detach)
+        flew = (self.outcome != "completed") & np.isfinite(t_detach)
+        flew[list(self.collided)] = False
+        return flew
 
     def miss(self, i: int) -> float | None:
         """Design i's miss distance (m) as :class:`~aero_env.results.SimResult` keeps it: None where the run
@@ -57,6 +66,8 @@ class BatchResult:
 
     def reason(self, i: int) -> str:
         """Design i's outcome as a sentence with numbers (the runner's wording)."""
+        if i in self.collided:
+            return self.collided[i]
         return reason_text(int(self.reason_code[i]), *self.reason_values[i], int(self.last_frame[i]),
                            {k: v[i] for k, v in self._text.items()})
 
@@ -82,7 +93,10 @@ def batch_result(table: np.ndarray, out: np.ndarray, sw: np.ndarray, frames: int
 
 def sim_result(res: BatchResult, i: int, fidelity: str) -> SimResult:
     """Design i of a batch as the pymunk runner's :class:`~aero_env.results.SimResult` (the energy is the
-    model's: frames, robot parts and spring; health is all zeros)."""
+    model's: frames, robot parts and spring; health is all zeros). A design whose kit collides: nothing simulated."""
+    if i in res.collided:
+        return SimResult(traversals=0, frames=res.frames, outcome=COLLIDES, reason=res.collided[i], swings=[],
+                         energy={}, sim_time=0.0, wall_time=res.wall_time, fidelity=fidelity)
     sw = res.swings
     opt = lambda v: None if np.isnan(v) else float(v)  # noqa: E731
     swings = []
