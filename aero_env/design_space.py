@@ -360,11 +360,16 @@ def _flat(d: dict, prefix: str = "") -> dict:
     return out
 
 
+CHECKS_ONLY = "scene.effects.clearance"  # a scene key that checks a design and changes no physics
+
+
 def changes_outside_tunables(cfg: Config, other: Config) -> list[str]:
     """The design and scene keys in which ``other`` differs from ``cfg`` outside ``cfg``'s tunables (and the
     keys linked to them): empty when ``other`` is only another design for ``cfg``'s scene and robot. A scene's
-    stored solution must be (``aero-env scenes``), and so must a design a sheet compares with."""
-    free = {t.name for t in cfg.tunable} | {k for t in cfg.tunable for k in t.linked}
+    stored solution must be (``aero-env scenes``), and so must a design a sheet compares with.
+    ``scene.effects.clearance`` is no change: a check, not physics (a solution found with it on runs, where its
+    kit clears, as it would with it off)."""
+    free = {t.name for t in cfg.tunable} | {k for t in cfg.tunable for k in t.linked} | {CHECKS_ONLY}
     a = _flat({k: cfg.to_dict()[k] for k in ("design", "scene")})
     b = _flat({k: other.to_dict()[k] for k in ("design", "scene")})
     return sorted(k for k in a.keys() | b.keys() if k not in free and a.get(k) != b.get(k))

@@ -133,10 +133,11 @@ def test_the_layout_script_prints_the_kinds_and_the_sweep_and_refuses_bad_argume
 
 @pytest.mark.slow
 def test_on_a_steep_row_the_handrails_meet_and_the_nested_layout_says_it_finds_none():
-    """steep's stored solution (10 mm of rise a frame): a frame's handrail meets the next frame's resting handrail
-    before the robot lets go, in any layout across the row (both span the robot's arm); the nested layout reports
-    that it found no narrow card rather than cut one that swings otherwise."""
-    cfg = load_config(PAPER.parent / "scenes/solutions/steep.yaml")
+    """The prototype's frames on a row that climbs 10 mm a frame (the steep scene before its rest angle was a
+    choice): a frame's handrail meets the next frame's resting handrail before the robot lets go, in any layout
+    across the row (both span the robot's arm); the nested layout reports that it found no narrow card rather than
+    cut one that swings otherwise."""
+    cfg = load_config(PAPER.parent / "scenes/steep.yaml")
     meets = static_sweep(assembly(cfg, identical_layout(cfg)), frames=[2])
     rails = [c for c in meets if (c.part, c.other, c.where) == ("handrail", "handrail", "frame 3 at rest")]
     assert len(rails) == 1 and rails[0].angle_deg < 150.0

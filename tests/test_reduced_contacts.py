@@ -343,7 +343,8 @@ def test_a_landing_that_slides_into_the_corner_within_its_step_stops_there():
 def test_the_next_card_test_is_skipped_only_where_no_hook_can_reach_the_next_card(scene):
     """params.next_card_reach skips next_card's test on designs whose hook cannot come near the next frame's cards
     (the test costs 9 % of the model's time). Run with the test forced on for every design, a batch gives the same
-    records: the skip never drops a contact. On steep the test is needed, and on the prototype's scene it is off."""
+    records: the skip never drops a contact. On steep the test is needed (on every design resting at 55 deg; with
+    the rest angle a choice, 50-70 deg, on about half), and on the prototype's scene it is off."""
     from aero_env.models.reduced import _run_table, check_scene
     from aero_env.models.reduced.constants import STEP
     from aero_env.models.reduced.layout import P
@@ -360,9 +361,18 @@ def test_the_next_card_test_is_skipped_only_where_no_hook_can_reach_the_next_car
     assert np.array_equal(np.nan_to_num(gated.t_detach), np.nan_to_num(always.t_detach))
     reach = table[:, P.next_card].mean()
     if "steep" in scene:
-        assert reach == 1.0
+        assert 0.3 < reach and reach_at(table, cfgs, 55.0) == 1.0
     if "paper" in scene:
         assert reach == 0.0
+
+
+def reach_at(table, cfgs, rest_deg: float) -> float:
+    """The share of the designs resting at ``rest_deg`` whose hook can reach the next frame's card."""
+    from aero_env.models.reduced.layout import P
+
+    at = [i for i, c in enumerate(cfgs) if c.design.rest_angle_deg == rest_deg]
+    assert at, f"no design rests at {rest_deg} deg"
+    return float(table[at, P.next_card].mean())
 
 
 def test_world_contacts_lists_the_steep_kick_and_refuses_a_bad_window_in_one_line(capsys):

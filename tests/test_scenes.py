@@ -33,7 +33,8 @@ def test_each_scenes_stored_solution_completes_its_row_at_mbd_and_at_reference(s
     cfg, solved = load_config(scene), load_config(solution)
     # the answer is to the scene as posed: read as plain YAML data (not through the suite's own check), every
     # design and scene number the solution writes that search may not change equals the scene's own value
-    free = {t.name for t in cfg.tunable} | {k for t in cfg.tunable for k in t.linked}
+    # (scene.effects.clearance, a check that moves no physics of a kit that clears, may be switched on)
+    free = {t.name for t in cfg.tunable} | {k for t in cfg.tunable for k in t.linked} | {"scene.effects.clearance"}
     written = _flat({k: v for k, v in yaml.safe_load(solution.read_text()).items() if k in ("design", "scene")})
     for key, value in written.items():
         if key not in free:
@@ -55,11 +56,9 @@ def test_the_scenes_command_reports_the_suites_headroom(capsys):
                           "solution_traversals"}
         assert r["solution_traversals"] == {"mbd": r["full_row"]} and r["solution_changes_scene"] == []
         assert r["prototype_traversals"] == simulate(load_config(r["config"])).traversals
-    # the kits drawn for the stored solutions: the steep rows' handrails meet in any layout (test_nested_layout.py,
-    # test_solids.py); the others clear in the nested layout
-    assert {r["name"]: r["solution_kit"].split(":")[0] for r in rows} == {
-        "gray_card": "clears", "heavy_steep_gray": "collides", "light_frames": "clears", "six_coins": "clears",
-        "steep": "collides", "wide_pitch": "clears"}
+    # the kits drawn for the stored solutions clear (steep and heavy_steep_gray were re-found with the effect on,
+    # their rest angle a choice: at 55 deg their handrails meet in any layout, test_nested_layout.py)
+    assert {r["solution_kit"] for r in rows} == {"clears"}
     # headroom: scenes the paper's design fails, and scenes random designs rarely complete
     assert sum(r["prototype_traversals"] < r["full_row"] for r in rows) >= 2
     assert sum(r["random_full_row_share"] <= 0.2 for r in rows) >= 2

@@ -273,7 +273,7 @@ def test_every_stored_solution_stands_up_as_closed_solids(config, tmp_path):
     cfg = load_config(config)
     refused, contacts = nested_refusal(cfg), static_sweep(assembly(cfg))
     assert (contacts == []) is (refused == ""), (refused, contacts[:1])
-    if refused:  # steep and heavy_steep_gray: their handrails meet in any layout (test_nested_layout.py)
+    if refused:  # a row so steep that its handrails meet in any layout (test_nested_layout.py)
         assert refused.startswith("a frame's handrail lies in its neighbour's handrail's path"), refused
     out = tmp_path / "row.glb"
     assert main(["sheet", str(config), "--out", str(out)]) == 0
