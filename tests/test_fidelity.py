@@ -262,13 +262,17 @@ def test_bench_accuracy_near_a_design_and_on_converged_designs(capsys):
         assert needle in capsys.readouterr().err
 
 
+CHEAP_EFFECTS = "drag,static_kinetic,live_frames,pivot_friction,axle_friction,spring_damping"
+
+
 def test_bench_effects_counts_the_outcomes_each_effect_changes(capsys):
+    """Every effect but clearance (its own test below: seconds a design), each row's changed designs read back from
+    the env run with and without it."""
     assert cli_main(["bench", "effects", str(PAPER), "--designs", "3", "--seed", str(EFFECTS_SEED), "--repeats", "1",
-                     "--set", "scene.frames=3", "--json"]) == 0
+                     "--set", "scene.frames=3", "--effects", CHEAP_EFFECTS, "--json"]) == 0
     rep = json.loads(capsys.readouterr().out)
     rows = {r["effect"]: r for r in rep["effects"]}
-    assert set(rows) == {"drag", "static_kinetic", "live_frames", "pivot_friction", "axle_friction", "spring_damping",
-                         "clearance"}
+    assert list(rows) == CHEAP_EFFECTS.split(",")
     assert rows["drag"]["scene"] is False and rows["static_kinetic"]["scene"] == "static_kinetic"
     # the dry frictions are measured at the scene's own value against no part at all
     assert rows["pivot_friction"]["scene"] == 1.185e-4 and rows["pivot_friction"]["off"] == 0.0
@@ -276,8 +280,7 @@ def test_bench_effects_counts_the_outcomes_each_effect_changes(capsys):
     assert rows["spring_damping"]["scene"] == 0.0 and rows["spring_damping"]["on"] == 0.02
     toggled = {"drag": {"scene.effects.drag": True}, "static_kinetic": {"scene.effects.friction": "kinetic"},
                "live_frames": {"scene.effects.live_frames": 3}, "pivot_friction": {"design.pivot_friction": 0.0},
-               "axle_friction": {"design.axle_friction": 0.0}, "spring_damping": {"design.spring_damping": 0.02},
-               "clearance": {"scene.effects.clearance": True}}
+               "axle_friction": {"design.axle_friction": 0.0}, "spring_damping": {"design.spring_damping": 0.02}}
     scene = [i["traversals"] for i in _env_runs({"scene.frames": 3}, 3, EFFECTS_SEED)]
     for name, overrides in toggled.items():
         other = [i["traversals"] for i in _env_runs({"scene.frames": 3, **overrides}, 3, EFFECTS_SEED)]
@@ -285,6 +288,28 @@ def test_bench_effects_counts_the_outcomes_each_effect_changes(capsys):
         assert rows[name]["changed_designs"] == changed and rows[name]["outcomes_changed"] == len(changed), name
         if name == "pivot_friction":  # the sample shows an effect at all (measured: designs 1 and 2, 0 -> 2 and 0 -> 1)
             assert changed, "seed no longer draws a design the skewer's friction decides: pick another EFFECTS_SEED"
+
+
+def test_bench_effects_times_the_clearance_check_cold_and_refuses_an_unknown_effect(capsys):
+    """The clearance row on one design: its first check (the layout fitted, the row swept) costs far more than its
+    run, and it changes the count only where the kit collides (the env says so: this design's does, and it
+    traversed nothing without the check either); a name that is no effect is one line before any run."""
+    from aero_env.parts.clearance import forget_verdicts
+
+    assert cli_main(["bench", "effects", str(PAPER), "--designs", "1", "--seed", str(EFFECTS_SEED), "--repeats", "1",
+                     "--set", "scene.frames=3", "--effects", "clearance", "--json"]) == 0
+    (row,) = json.loads(capsys.readouterr().out)["effects"]
+    assert (row["effect"], row["on"], row["off"], row["scene"]) == ("clearance", True, False, False)
+    assert row["cost_ratio"] > 10.0  # measured: about 1,300x on 20 designs (docs/fidelity.md)
+    on = _env_runs({"scene.frames": 3, "scene.effects.clearance": True}, 1, EFFECTS_SEED)[0]
+    off = _env_runs({"scene.frames": 3}, 1, EFFECTS_SEED)[0]
+    assert on["outcome"] == "collides" or on["traversals"] == off["traversals"]
+    assert row["outcomes_changed"] == (on["traversals"] != off["traversals"])  # a count moved, not an outcome
+    forget_verdicts()
+    assert cli_main(["bench", "effects", str(PAPER), "--effects", "drag,wind"]) == 2
+    assert capsys.readouterr().err.strip().endswith("--effects 'drag,wind': wind is not an effect; allowed: drag, "
+                                                    "static_kinetic, live_frames, pivot_friction, axle_friction, "
+                                                    "spring_damping, clearance")
 
 
 @pytest.mark.slow

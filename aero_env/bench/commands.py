@@ -36,6 +36,8 @@ def register(sub, scene_command) -> None:
     ep.add_argument("--designs", type=int, default=30, help="random designs from the action space")
     add_seed(ep, 0, "seed of the design draw")
     ep.add_argument("--repeats", type=int, default=3, help="runs per design and effect; the median time is kept")
+    ep.add_argument("--effects", metavar="NAME,...",
+                    help="only these effects, comma-separated (default every one; clearance costs seconds a design)")
     ep.set_defaults(func=cmd_effects)
 
     op = scene_command(bsub, "overhead", "the Python layer's cost over bare space.step calls, piece by piece")
@@ -108,9 +110,11 @@ def cmd_accuracy(args) -> int:
 
 
 def cmd_effects(args) -> int:
-    from .effects import effects, table
+    from .effects import effects, pick_effects, table
 
-    return _emit(args, effects(load_scene(args), designs=args.designs, seed=args.seed, repeats=args.repeats), table)
+    names = pick_effects(args.effects)  # a name that is no effect: one line, before any run
+    return _emit(args, effects(load_scene(args), designs=args.designs, seed=args.seed, repeats=args.repeats,
+                               names=names), table)
 
 
 def cmd_throughput(args) -> int:

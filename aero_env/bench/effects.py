@@ -24,7 +24,7 @@ effect's cost), and the designs whose traversal count the effect changes.
 
 from __future__ import annotations
 
-from ..config import Config
+from ..config import Config, ConfigError
 from ..parts.clearance import forget_verdicts
 from ..physics.kernels import load_kernels
 from ..simulation import simulate
@@ -45,12 +45,25 @@ EFFECTS = {
 COLD = ("clearance",)  # effects whose cost is a design's first check: timed once, nothing kept from before
 
 
-def effects(cfg: Config, designs: int = 30, seed: int = 0, repeats: int = 3) -> dict:
+def pick_effects(text: str | None) -> tuple[str, ...]:
+    """``--effects``: the named effects in :data:`EFFECTS`' order (None: every one); a name that is none of them is
+    a one-line ConfigError naming the allowed ones."""
+    if text is None:
+        return tuple(EFFECTS)
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    unknown = [n for n in names if n not in EFFECTS]
+    if unknown or not names:
+        raise ConfigError(f"--effects {text!r}: {', '.join(unknown) or 'no name'} is not an effect; allowed: "
+                          f"{', '.join(EFFECTS)}")
+    return tuple(n for n in EFFECTS if n in names)
+
+
+def effects(cfg: Config, designs: int = 30, seed: int = 0, repeats: int = 3, names=tuple(EFFECTS)) -> dict:
     check_counts(designs=designs, repeats=repeats)
     sample = draw_designs(cfg, designs, seed)
     load_kernels()  # the pymunk world's compiled parts load once, outside every timed run
     rows = []
-    for name, (key, on, off) in EFFECTS.items():
+    for name, (key, on, off) in ((n, EFFECTS[n]) for n in names):
         walls = {"on": 0.0, "off": 0.0}
         traversals = {"on": [], "off": []}
         for c in sample.configs:
