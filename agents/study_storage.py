@@ -124,9 +124,8 @@ def open_storage(url: str):
                 if attempt == 4 or not made_meanwhile:
                     raise
                 time.sleep(0.2 * (attempt + 1))
-        if url.startswith("sqlite"):  # readers never block the writer; the mode stays with the file
-            with storage.engine.connect() as conn:
-                conn.exec_driver_sql("PRAGMA journal_mode=WAL")
+        if url.startswith("sqlite"):
+            _use_wal(storage.engine)
         return storage
     except ImportError as exc:  # the URL's driver is missing (psycopg: SQLAlchemy's for postgresql://)
         raise ConfigError(f"--storage {redact(url)}: its database driver is missing ({exc}); for PostgreSQL: "
@@ -134,6 +133,24 @@ def open_storage(url: str):
     except Exception as exc:  # sqlalchemy's connection errors: name the URL, not the stack
         raise ConfigError(f"--storage {redact(url)}: cannot open ({type(exc).__name__}: "
                           f"{str(exc).splitlines()[0]})") from exc  # the cause: a worker retries a lost one
+
+
+def _use_wal(engine, tries: int = 50) -> None:
+    """Put a SQLite study in WAL mode (readers never block the writer; the mode stays with the file). Switching
+    needs the file to itself, and SQLite answers "database is locked" at once, without its busy timeout, while
+    another process is reading it: one of four tunes started together on a new file failed so. The switch is
+    retried (up to about 10 s); a file another process switched meanwhile is left as it is."""
+    for attempt in range(tries):
+        try:
+            with engine.connect() as conn:
+                if conn.exec_driver_sql("PRAGMA journal_mode").scalar() == "wal":
+                    return
+                conn.exec_driver_sql("PRAGMA journal_mode=WAL")
+                return
+        except Exception as exc:
+            if "database is locked" not in str(exc) or attempt == tries - 1:
+                raise
+            time.sleep(0.2)
 
 
 def check_sqlite_file(url: str) -> None:

@@ -160,3 +160,33 @@ def test_tunes_started_together_on_a_new_sqlite_file_all_run(tmp_path):
                                 "WHERE state = 'COMPLETE' GROUP BY study_name").fetchall()
             assert sorted(rows) == [(f"p{i}", 1) for i in range(4)], round_
             assert conn.execute("SELECT count(*) FROM version_info").fetchone()[0] == 1
+
+
+WRITER = textwrap.dedent("""
+    import sqlite3, sys, time
+    held = sqlite3.connect(sys.argv[1], isolation_level=None)
+    held.execute("BEGIN IMMEDIATE")  # the write lock a tune holds while it makes its study or commits a trial
+    held.execute("CREATE TABLE held (x)")
+    print("held", flush=True)
+    time.sleep(float(sys.argv[2]))
+    held.execute("ROLLBACK")
+""")
+
+
+def test_a_study_opened_while_another_tune_writes_to_it_waits_for_the_write(tmp_path):
+    """The switch to WAL needs the file to itself, and SQLite refuses it at once ("database is locked", its busy
+    timeout not asked) while another process holds the write lock: one of four tunes started together on a new
+    file failed so in CI. Here a file still in SQLite's default journal is opened while another process holds the
+    write lock for 1 s: the open waits for it and leaves the file in WAL."""
+    path = tmp_path / "s.db"
+    open_storage(f"sqlite:///{path}").engine.dispose()  # Optuna's tables made; then back to the default journal
+    with closing(sqlite3.connect(path)) as conn:
+        assert conn.execute("PRAGMA journal_mode=DELETE").fetchone()[0] == "delete"
+    writer = subprocess.Popen([sys.executable, "-c", WRITER, str(path), "1.0"], stdout=subprocess.PIPE, text=True)
+    try:
+        assert writer.stdout.readline() == "held\n"
+        open_storage(f"sqlite:///{path}").engine.dispose()
+    finally:
+        writer.wait(timeout=60)
+    with closing(sqlite3.connect(path)) as conn:
+        assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
