@@ -144,3 +144,30 @@ def test_on_a_steep_row_the_handrails_meet_and_the_nested_layout_says_it_finds_n
     row = nested_layout(cfg)
     assert not row.found and row.reason.startswith("a frame's handrail lies in its neighbour's handrail's path")
     assert row.kinds[0].extents is None  # it keeps the hollow card and says so
+
+
+def test_a_row_whose_narrow_card_fails_says_its_nearest_miss_and_spends_no_fit_on_the_wide_card(monkeypatch):
+    """Frames 100 mm long (La = Lb): both kinds' cards are crossed, so both would be fitted. Every fit here fails
+    (a stand-in for Nelder-Mead, which takes half a minute to fail on this design), each layer count missing by its
+    own amount: the reason names the layer count that came nearest and its misfit, and once the narrow card has
+    failed the row is refused whatever the wide card does, so no wide fit is run."""
+    import numpy as np
+
+    from aero_env.parts import layout
+
+    cfg = load_config(PAPER, {"design.La": 0.1, "design.Lb": 0.1})
+    n = int(build.side_card(cfg.design)["layers"])
+    misses = {k: np.array([-0.1 * (1 + abs(k - (n + 1))), -0.2, 0.01, -0.02]) for k in range(1, n + 3)}  # n+1 nearest
+    asked = []
+
+    def failing_fit(sc, keep_out, pins):
+        asked.append(int(sc["layers"]))
+        return None, misses[int(sc["layers"])], None
+
+    monkeypatch.setattr(layout, "fit_cut_card", failing_fit)
+    row = layout._build_nested(cfg)
+    assert asked == list(layout.layers_tried(n))  # the narrow card's layer counts, once each, and nothing more
+    assert not row.found and row.reason == (f"no narrow card cut clear of its neighbours weighs and swings as the "
+                                            f"hollow card (nearest, {n + 1} layers: mass -1.0e-01, inertia -2.0e-01, "
+                                            f"centre (+0.10, -0.20) mm)")
+    assert [kind.extents for kind in row.kinds[:2]] == [None, None]

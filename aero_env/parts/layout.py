@@ -267,6 +267,9 @@ def _build_nested(cfg) -> RowLayout:
         if (hollow ^ (keep_out + own)).area() <= TOUCH_AREA:
             found[name] = (hollow, None, n)
             continue
+        if reasons:  # no narrow card: the row is refused whatever the wide card does, and a fit that fails runs
+            found[name] = (hollow, None, n)  # every start and layer count (20-40 s): the wide card is left hollow
+            continue
         if name == "narrow" and (rail ^ keep_out).area() > TOUCH_AREA:
             # the card must carry its own handrail's tabs at the seat, where a neighbour's handrail passes: the two
             # handrails meet (they both span the robot's arm), and no card can be cut around that
@@ -274,17 +277,20 @@ def _build_nested(cfg) -> RowLayout:
                            "turn): no layout across the row separates them")
             found[name] = (hollow, None, n)
             continue
-        misfit = None
+        nearest = None  # (misfit's sum of squares, layers, misfit) of the nearest miss
         for layers in layers_tried(n):  # fewer layers leave more card to place, more leave less for the cut to take
             card = dict(sc, layers=layers)
             extents, misfit, outline = fit_cut_card(card, keep_out, pins)
             if extents is not None:
                 found[name] = (outline, tuple(float(x) for x in extents), layers)
                 break
+            if nearest is None or float(np.sum(misfit**2)) < nearest[0]:
+                nearest = (float(np.sum(misfit**2)), layers, misfit)
         else:
+            _, layers, misfit = nearest
             reasons.append(f"no {name} card cut clear of its neighbours weighs and swings as the hollow card "
-                           f"(nearest, {n} layers: mass {misfit[0]:+.1e}, inertia {misfit[1]:+.1e}, centre "
-                           f"({10 * misfit[2]:+.2f}, {10 * misfit[3]:+.2f}) mm)")
+                           f"(nearest, {layers} layer{'s' if layers > 1 else ''}: mass {misfit[0]:+.1e}, inertia "
+                           f"{misfit[1]:+.1e}, centre ({10 * misfit[2]:+.2f}, {10 * misfit[3]:+.2f}) mm)")
             found[name] = (hollow, None, n)
     narrow_t = found["narrow"][2] * build.CARD_THICKNESS
     spans = {"narrow": build.RAIL_SPAN, "wide": build.RAIL_SPAN + 2 * narrow_t + 2 * GAP}
