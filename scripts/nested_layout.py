@@ -58,10 +58,10 @@ def main(argv: list[str] | None = None) -> int:
     print(f"the hollow card: {sc['mass'] * 1e3:.3f} g, {sc['I_axis'] * 1e7:.3f} g·cm² about its hole, "
           f"{int(sc['layers'])} layers")
     print("kind     frames  span mm  layers  card                mass g   centre mm (u, v)   g·cm²")
-    for k, kind in enumerate(row.kinds[:2]):
+    for kind, served in row.by_kind():
         area, su, sv, j = moments(kind.outline)
         sigma = build.GRAMMAGE * kind.layers
-        frames = ",".join(str(i) for i in range(k, cfg.scene.frames, 2))
+        frames = ",".join(str(i) for i in served)
         what = "cut away, fitted" if kind.extents is not None else "hollow, as it is"
         print(f"{kind.name:8} {frames:7} {kind.span * 1e3:7.1f} {kind.layers:7d}  {what:18} {sigma * area * 1e-3:7.3f}"
               f"   ({round(su / area, 3) + 0.0:+.3f}, {round(sv / area, 3) + 0.0:+.3f})   {sigma * j * 1e-5:7.3f}")

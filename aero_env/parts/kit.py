@@ -211,12 +211,8 @@ def side_cards(cfg) -> list[Piece]:
     row = kit_layout(cfg)
     if row.name != "nested":
         return [side_card(cfg)]
-    out = []
-    for first in (0, 1)[:cfg.scene.frames]:
-        kind = row.kinds[first]
-        served = list(range(first, cfg.scene.frames, 2))
-        out.append(side_card(cfg, served, kind.name) if kind.extents is None else cut_side_card(cfg, served, kind))
-    return out
+    return [side_card(cfg, served, kind.name) if kind.extents is None else cut_side_card(cfg, served, kind)
+            for kind, served in row.by_kind()]
 
 
 def no_ring(d) -> str:
@@ -270,8 +266,7 @@ def handrails(cfg) -> list[Piece]:
     row = kit_layout(cfg)
     if row.name != "nested":
         return [handrail(cfg)]
-    return [handrail(cfg, list(range(first, cfg.scene.frames, 2)), row.kinds[first].name, row.kinds[first].span)
-            for first in (0, 1)[:cfg.scene.frames]]
+    return [handrail(cfg, served, kind.name, kind.span) for kind, served in row.by_kind()]
 
 
 def counterbalance(cfg) -> Piece:
@@ -302,7 +297,7 @@ def _placement(cfg) -> str:
         return " and ".join([_plural(coins, "coin")] * (coins > 0) + ["the clay"] * (with_clay and clay)) or "nothing"
 
     near, far = counterbalance_stacks(cfg.design, True)
-    narrow, wide = (", ".join(str(i) for i in range(first, cfg.scene.frames, 2)) for first in (0, 1))
+    narrow, wide = (", ".join(str(i) for i in row.frames_of(kind)) for kind in ("narrow", "wide"))
     return (f"Narrow frames ({narrow}): {between} Wide frames ({wide}): outside, where no other frame's card "
             f"passes, glued on the cards' outer faces, centred on their black crosses: {stack(*near[1:])} on the "
             f"near card, {stack(*far[1:])} on the far card.")

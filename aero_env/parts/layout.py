@@ -233,6 +233,17 @@ class RowLayout:
     found: bool
     reason: str
 
+    def by_kind(self) -> list[tuple[FrameKind, list[int]]]:
+        """Each kind of frame in the row, in the order it first appears, with the frames of that kind."""
+        out: dict[str, tuple[FrameKind, list[int]]] = {}
+        for i, kind in enumerate(self.kinds):
+            out.setdefault(kind.name, (kind, []))[1].append(i)
+        return list(out.values())
+
+    def frames_of(self, name: str) -> list[int]:
+        """The frames of the kind ``name`` ([] where the row has none)."""
+        return [i for i, kind in enumerate(self.kinds) if kind.name == name]
+
 
 def nested_layout(cfg) -> RowLayout:
     """The nested layout for ``cfg``, kept per design and scene (a fit takes seconds)."""

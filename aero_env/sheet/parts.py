@@ -15,6 +15,7 @@ from ..config import CARD_PAIRS, Config
 from ..parts.build import counterbalance_load, side_card
 from ..parts.card import PAPER_CARD, Card
 from ..parts.kit import pieces, shapes_extent
+from ..parts.layout import kit_layout
 from ..parts.spring_strip import GLUE_TAB, bench_loads, linear_equivalent, plan_strip
 
 
@@ -56,7 +57,7 @@ def laminate(piece_or_layers) -> str:
 
 def kind_frames(cfg: Config, kind: str) -> str:
     """The frames of a kind in the nested layout, as the sheet names them: "0, 2, 4, 6"."""
-    return ", ".join(str(i) for i in range(0 if kind == "narrow" else 1, cfg.scene.frames, 2))
+    return ", ".join(str(i) for i in kit_layout(cfg).frames_of(kind))
 
 
 def workbench(key: str, value: float, cfg: Config) -> str:
