@@ -380,3 +380,44 @@ def test_the_frame_balance_check_brackets_the_counterbalances_moment(paper_cfg, 
     assert hi == lo + 1 and moment(lo) > 0 > moment(hi)
     at = float(re.search(r"balances at (-?[0-9.]+)\)", text).group(1))
     assert moment(at) == pytest.approx(0.0, abs=0.05e-3 * 9.81 * d.Lb)  # to the printed tenth of a coin
+
+
+def test_the_sheet_says_while_it_fits_the_layout_and_only_then(tmp_path, capsys):
+    """The layout's fit takes seconds (half a minute or more where no card fits) in silence otherwise: the sheet
+    says on stderr that it is fitting and what it found, once per design (a kept layout costs nothing and says
+    nothing), and nothing with --no-progress; stdout keeps its one line."""
+    from aero_env.parts.clearance import forget_verdicts
+
+    found, refused = PAPER.parent / "scenes/solutions/steep.yaml", PAPER.parent / "steep_solution.yaml"
+    for config, verdict in ((found, "found"), (refused, "none found: every frame is drawn alike (the sheet says why)")):
+        forget_verdicts()
+        assert main(["sheet", str(config), "--out", str(tmp_path / "t.svg")]) == 0
+        out, err = capsys.readouterr()
+        said = err.splitlines()
+        assert said[0] == "aero-env sheet: fitting the side cards of the nested layout ..." and len(said) == 2, err
+        assert re.fullmatch(rf"aero-env sheet: the nested layout: {re.escape(verdict)}, in \d+\.\d s", said[1])
+        assert out.startswith("wrote ") and len(out.splitlines()) == 1
+        assert main(["sheet", str(config), "--out", str(tmp_path / "t.svg")]) == 0  # kept: nothing to say
+        assert capsys.readouterr().err == ""
+    forget_verdicts()
+    assert main(["sheet", str(found), "--out", str(tmp_path / "t.svg"), "--no-progress"]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_a_row_the_stand_cannot_hold_is_refused_before_the_layout_is_fitted(tmp_path, capsys, monkeypatch):
+    """The stand's check comes first: a row falling below the uprights' foot is one line at once, not after the
+    layout's fit (which the crossbeams' gap needs, before the uprights are drawn)."""
+    from aero_env.parts import layout
+    from aero_env.parts.clearance import forget_verdicts
+
+    forget_verdicts()
+
+    def no_fit(cfg):
+        raise AssertionError("the layout was fitted before the stand was checked")
+
+    monkeypatch.setattr(layout, "_build_nested", no_fit)
+    assert main(["sheet", str(PAPER), "--out", str(tmp_path / "kit"), "--set", "scene.rise=-0.0205"]) == 2
+    assert capsys.readouterr().err == (
+        "aero-env: config error: scene.rise = -0.0205: over 8 frames the last axis would stand 6.5 mm above the base "
+        "(scene.floor_drop = 0.15); the stand needs at least 10 mm, allowed rise >= -0.02 m\n")
+    assert not (tmp_path / "kit").exists()

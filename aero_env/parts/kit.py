@@ -401,6 +401,7 @@ def parts_json(cfg, config_name: str = "") -> dict:
 SEGMENT_MAX = 170.0  # mm: a crossbeam segment fits the template's width, so it prints at 1:1 on A4 and Letter
 CROSSBEAM_LAYERS = 3  # a stiff strip: three layers glued flat (a choice; the stand's mass is not modelled)
 UPRIGHT_WIDTH = 10.0  # mm
+UPRIGHT_FOOT = 10.0  # mm: the upright's foot, folded and glued to the base
 SNUG_R = build.SKEWER_D * MM / 2  # the crossbeam holds each skewer snug: the frames turn on it, it does not turn
 SKEWER_PROUD = 2.0e-3  # m: a skewer stands this far out of what holds it at each end, to grip and push it back out
 
@@ -497,14 +498,12 @@ def base_board(cfg) -> tuple[float, float]:
     return (cfg.scene.frames - 1) * cfg.scene.pitch + 0.12, 0.06
 
 
-def uprights(cfg) -> list[Piece]:
-    """The four legs that hold the crossbeams: the first axis floor_drop above a level floor, the last one the row's
-    rise higher (the world's floor follows the row; a table does not, and only a fall reaches it)."""
-    s = cfg.scene
-    w, foot = UPRIGHT_WIDTH, 10.0
-    out = []
+def check_stand(cfg) -> None:
+    """Refuse, in one line naming the field, a row whose lowest axis stands below the uprights' foot: there is no
+    upright to cut. The sheet asks before any work (the layout's fit takes seconds to a minute)."""
+    s, foot = cfg.scene, UPRIGHT_FOOT
     low = (s.floor_drop + min(0.0, (s.frames - 1) * s.rise)) * MM
-    if low < foot:  # the lowest axis at or below the foot: there is no upright to cut
+    if low < foot:  # the lowest axis at or below the foot
         from ..config import ConfigError
 
         if s.floor_drop * MM < foot:  # the first axis itself: no rise can lift it
@@ -515,6 +514,15 @@ def uprights(cfg) -> list[Piece]:
         raise ConfigError(f"scene.rise = {s.rise!r}: over {s.frames} frames the last axis would stand {low:.1f} mm "
                           f"above the base (scene.floor_drop = {s.floor_drop!r}); the stand needs at least "
                           f"{foot:.0f} mm, allowed rise >= {(foot / MM - s.floor_drop) / (s.frames - 1):.4g} m")
+
+
+def uprights(cfg) -> list[Piece]:
+    """The four legs that hold the crossbeams: the first axis floor_drop above a level floor, the last one the row's
+    rise higher (the world's floor follows the row; a table does not, and only a fall reaches it)."""
+    check_stand(cfg)
+    s = cfg.scene
+    w, foot = UPRIGHT_WIDTH, UPRIGHT_FOOT
+    out = []
     for end, frame, height in (("first", 0, s.floor_drop * MM), ("last", s.frames - 1,
                                                                    (s.floor_drop + (s.frames - 1) * s.rise) * MM)):
         length = height + foot

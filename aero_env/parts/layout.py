@@ -245,11 +245,21 @@ class RowLayout:
         return [i for i, kind in enumerate(self.kinds) if kind.name == name]
 
 
+def _key(cfg) -> tuple:
+    """What a row's layout depends on."""
+    d, s = cfg.design, cfg.scene
+    return (d.La, d.Lb, d.m1, d.rest_angle_deg, d.stop_angle_deg, d.notch_angle_deg, d.notch_opening_deg,
+            d.notch_back_face, d.notch_front_face, d.handrail_thickness, d.hook_radius, s.pitch, s.rise, s.frames)
+
+
+def is_kept(cfg) -> bool:
+    """Whether ``cfg``'s layout is kept from before in this process (:func:`nested_layout` then costs nothing)."""
+    return _key(cfg) in _KEPT
+
+
 def nested_layout(cfg) -> RowLayout:
     """The nested layout for ``cfg``, kept per design and scene (a fit takes seconds)."""
-    d, s = cfg.design, cfg.scene
-    key = (d.La, d.Lb, d.m1, d.rest_angle_deg, d.stop_angle_deg, d.notch_angle_deg, d.notch_opening_deg,
-           d.notch_back_face, d.notch_front_face, d.handrail_thickness, d.hook_radius, s.pitch, s.rise, s.frames)
+    key = _key(cfg)
     if key not in _KEPT:
         if len(_KEPT) >= 64:
             _KEPT.pop(next(iter(_KEPT)))

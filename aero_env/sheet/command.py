@@ -20,8 +20,8 @@ sheet in it is written over, as a file would be).
   the robot where the world starts it; ``.html``: the same model in a page any browser opens from the disk
   (``aero_env/parts/viewer.py``).
 
-The output path is checked before anything is simulated; the robustness builds show their progress on stderr
-(``--no-progress``: none).
+The output path and the stand are checked before any work; the layout's fit (seconds, up to a minute where no
+card fits) and the robustness builds show their progress on stderr (``--no-progress``: none).
 """
 
 from __future__ import annotations
@@ -53,7 +53,8 @@ def register(sub, scene_command) -> None:
     sp.add_argument("--compare", metavar="CONFIG.yaml",
                     help="another design on the same scene (e.g. the one a robust tune started from): its share of "
                          "the same hand-made builds is shown beside this design's")
-    sp.add_argument("--no-progress", action="store_true", help="no progress bar for the robustness builds")
+    sp.add_argument("--no-progress", action="store_true",
+                    help="nothing on stderr while the layout is fitted and the robustness builds run")
     sp.set_defaults(func=cmd_sheet)
 
 
@@ -190,7 +191,25 @@ def parts_text(cfg: Config, config_name: str) -> str:
     return json.dumps(parts_json(cfg, config_name), indent=2) + "\n"
 
 
+def fit_layout(cfg: Config, stream=None) -> None:
+    """Work out the kit's layout now, saying so on ``stream`` (stderr) where it is not kept from before: the fit of
+    the nested layout's cards takes seconds, and half a minute or more where no card fits, in silence otherwise."""
+    import sys
+
+    from ..parts.layout import is_kept, nested_layout
+
+    if is_kept(cfg):
+        return
+    stream = stream or sys.stderr
+    print("aero-env sheet: fitting the side cards of the nested layout ...", file=stream, flush=True)
+    t = time.perf_counter()
+    row = nested_layout(cfg)
+    verdict = "found" if row.found else "none found: every frame is drawn alike (the sheet says why)"
+    print(f"aero-env sheet: the nested layout: {verdict}, in {time.perf_counter() - t:.1f} s", file=stream, flush=True)
+
+
 def cmd_sheet(args) -> int:
+    from ..parts.kit import check_stand
     from ..scene_args import check_output, check_output_dir, load_scene
     from .kit_pdf import kit_pdfs
     from .template import svg
@@ -217,8 +236,11 @@ def cmd_sheet(args) -> int:
             raise ConfigError(f"--compare {args.compare!r}: not the same scene and robot, only another design "
                               f"({', '.join(differs[:4])}{' ...' if len(differs) > 4 else ''} differ)")
         compare = (args.compare, other)
+    check_stand(cfg)  # before the layout's fit: a row the stand cannot hold is refused at once
     t0 = time.perf_counter()
     progress = not args.no_progress
+    if progress:
+        fit_layout(cfg)
     # every text is made before the first file is written: a run stopped in the robustness builds (Ctrl-C, a
     # failure) leaves no template without its sheet
     if folder:
