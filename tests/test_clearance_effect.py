@@ -115,3 +115,26 @@ def test_hand_made_builds_are_judged_by_the_kit_of_their_design(capsys):
             assert list(a.outcomes) == expect and a.rewards == (0.0, 0.0)
         else:
             assert a == b
+
+
+def test_forgetting_one_designs_verdict_keeps_the_others(monkeypatch):
+    """The effects bench times each design's first check: it forgets that design's verdict and layout only, so a
+    design checked before (another seed, another caller in the process) is not fitted again. Counted by the sweeps
+    and fits that run."""
+    from aero_env.parts import clearance, layout
+
+    clearance.forget_verdicts()
+    sweeps, fits = [], []
+    sweep, fit = clearance.static_sweep, layout._build_nested
+    monkeypatch.setattr(clearance, "static_sweep", lambda *a, **k: sweeps.append(1) or sweep(*a, **k))
+    monkeypatch.setattr(layout, "_build_nested", lambda cfg: fits.append(1) or fit(cfg))
+    steep, solved = load_config(STEEP), load_config(ROOT / "configs/scenes/solutions/steep.yaml")
+    first = [clearance.kit_clearance(c) for c in (steep, solved)]
+    counted = (len(sweeps), len(fits))
+    assert fits == [1, 1] and layout.is_kept(steep) and layout.is_kept(solved)
+    clearance.forget_verdicts(steep)
+    assert not layout.is_kept(steep) and layout.is_kept(solved)
+    assert clearance.kit_clearance(solved) == first[1] and (len(sweeps), len(fits)) == counted  # kept: nothing runs
+    assert clearance.kit_clearance(steep) == first[0] and len(fits) == 3 and len(sweeps) > counted[0]  # checked again
+    clearance.forget_verdicts()
+    assert not layout.is_kept(solved)

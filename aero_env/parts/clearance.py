@@ -145,9 +145,9 @@ def kit_clearance(cfg) -> KitClearance:
     from .layout import nested_refusal
     from .solids import assembly
 
-    s = cfg.scene
-    key = (cfg.design, s.frames, s.pitch, s.rise, s.floor_drop)
+    key = _verdict_key(cfg)
     if key not in _VERDICTS:
+        s = cfg.scene
         asm, refused = assembly(cfg), nested_refusal(cfg)
         turned = (min(1, s.frames - 1),) if refused else tuple(range(s.frames))
         contacts = static_sweep(asm, frames=turned)
@@ -161,9 +161,19 @@ def kit_clearance(cfg) -> KitClearance:
     return _VERDICTS[key]
 
 
-def forget_verdicts() -> None:
-    """Drop the kept verdicts and layouts (a benchmark times a design's first check)."""
+def _verdict_key(cfg) -> tuple:
+    s = cfg.scene
+    return (cfg.design, s.frames, s.pitch, s.rise, s.floor_drop)
+
+
+def forget_verdicts(cfg=None) -> None:
+    """Drop the kept verdicts and layouts, or only ``cfg``'s (a benchmark times a design's first check, and keeps
+    what the other designs cost)."""
     from . import layout
 
-    _VERDICTS.clear()
-    layout._KEPT.clear()
+    if cfg is None:
+        _VERDICTS.clear()
+        layout._KEPT.clear()
+        return
+    _VERDICTS.pop(_verdict_key(cfg), None)
+    layout.forget(cfg)

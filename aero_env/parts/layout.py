@@ -257,6 +257,11 @@ def is_kept(cfg) -> bool:
     return _key(cfg) in _KEPT
 
 
+def forget(cfg) -> None:
+    """Drop ``cfg``'s kept layout, if any (its next :func:`nested_layout` fits again)."""
+    _KEPT.pop(_key(cfg), None)
+
+
 def nested_layout(cfg) -> RowLayout:
     """The nested layout for ``cfg``, kept per design and scene (a fit takes seconds)."""
     key = _key(cfg)
