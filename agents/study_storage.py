@@ -138,7 +138,7 @@ def open_storage(url: str):
 def _use_wal(engine, tries: int = 50) -> None:
     """Put a SQLite study in WAL mode (readers never block the writer; the mode stays with the file). Switching
     needs the file to itself, and SQLite answers "database is locked" at once, without its busy timeout, while
-    another process is reading it: one of four tunes started together on a new file failed so. The switch is
+    another process holds its write lock: one of four tunes started together on a new file failed so. The switch is
     retried (up to about 10 s); a file another process switched meanwhile is left as it is."""
     for attempt in range(tries):
         try:

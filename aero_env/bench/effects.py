@@ -69,7 +69,7 @@ def effects(cfg: Config, designs: int = 30, seed: int = 0, repeats: int = 3, nam
         for c in sample.configs:
             for state, value in (("on", on), ("off", off)):
                 run_cfg = c if value is SCENE_VALUE else c.replace({key: value})
-                if name in COLD:  # this design's first check, the others' kept as they were
+                if name in COLD and state == "on":  # this design's first check, the others' kept as they were
                     forget_verdicts(run_cfg)
                 wall, r = median_time(lambda: simulate(run_cfg), 1 if name in COLD else repeats)
                 walls[state] += wall

@@ -173,7 +173,6 @@ def forget_verdicts(cfg=None) -> None:
 
     if cfg is None:
         _VERDICTS.clear()
-        layout._KEPT.clear()
-        return
-    _VERDICTS.pop(_verdict_key(cfg), None)
+    else:
+        _VERDICTS.pop(_verdict_key(cfg), None)
     layout.forget(cfg)

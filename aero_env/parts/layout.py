@@ -257,9 +257,12 @@ def is_kept(cfg) -> bool:
     return _key(cfg) in _KEPT
 
 
-def forget(cfg) -> None:
-    """Drop ``cfg``'s kept layout, if any (its next :func:`nested_layout` fits again)."""
-    _KEPT.pop(_key(cfg), None)
+def forget(cfg=None) -> None:
+    """Drop ``cfg``'s kept layout, if any, or every kept layout (the next :func:`nested_layout` fits again)."""
+    if cfg is None:
+        _KEPT.clear()
+    else:
+        _KEPT.pop(_key(cfg), None)
 
 
 def nested_layout(cfg) -> RowLayout:
@@ -289,12 +292,12 @@ def _build_nested(cfg) -> RowLayout:
     found, reasons = {}, []
     # a narrow card's plane: the wide neighbours' handrails cross it, and every skewer; a wide card's: the skewers
     for name, turning in (("narrow", [rail]), ("wide", [])):
+        if reasons:  # no narrow card: the row is refused whatever the wide card does, and a fit that fails runs
+            found[name] = (hollow, None, n)  # every start and layer count (20-40 s): the wide card is left hollow
+            continue
         keep_out = forbidden(cfg, turning, skewers)
         if (hollow ^ (keep_out + own)).area() <= TOUCH_AREA:
             found[name] = (hollow, None, n)
-            continue
-        if reasons:  # no narrow card: the row is refused whatever the wide card does, and a fit that fails runs
-            found[name] = (hollow, None, n)  # every start and layer count (20-40 s): the wide card is left hollow
             continue
         if name == "narrow" and (rail ^ keep_out).area() > TOUCH_AREA:
             # the card must carry its own handrail's tabs at the seat, where a neighbour's handrail passes: the two
@@ -310,8 +313,9 @@ def _build_nested(cfg) -> RowLayout:
             if extents is not None:
                 found[name] = (outline, tuple(float(x) for x in extents), layers)
                 break
-            if nearest is None or float(np.sum(misfit**2)) < nearest[0]:
-                nearest = (float(np.sum(misfit**2)), layers, misfit)
+            miss = float(np.sum(misfit**2))
+            if nearest is None or miss < nearest[0]:
+                nearest = (miss, layers, misfit)
         else:
             _, layers, misfit = nearest
             reasons.append(f"no {name} card cut clear of its neighbours weighs and swings as the hollow card "
