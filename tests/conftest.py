@@ -61,9 +61,9 @@ def flat_side_cards(monkeypatch):
     def flat(d):
         shape = np.shape(build.side_card_length(d))
         none = dict(hollow=np.zeros(shape, bool), layers=np.ones(shape), half_depth=np.full(shape, np.nan),
-                    end=np.full(shape, np.nan))
+                    end=np.full(shape, np.nan), half_length=build.side_card_length(d) / 2.0)
         return {k: v.item() for k, v in none.items()} if shape == () else none
 
     monkeypatch.setattr(build, "fit_ring", flat)
     monkeypatch.setattr(build, "_fit_ring_one",
-                        lambda La, Lb, m1, rest, stop: flat(types.SimpleNamespace(La=La, Lb=Lb)))
+                        lambda La, Lb, m1, h, rest, stop: flat(types.SimpleNamespace(La=La, Lb=Lb)))

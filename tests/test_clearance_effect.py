@@ -15,8 +15,8 @@ from aero_env.config import load_config
 from aero_env.simulation import simulate
 
 from .conftest import PAPER, ROOT
-from .test_kit_readback import hollow_card
-from .test_solids import END, ring, rings_overlap
+from .test_kit_readback import card_half_length, hollow_card
+from .test_solids import ring, rings_overlap
 
 # the prototype on a row that climbs 10 mm a frame: its handrails meet in any layout (test_nested_layout.py)
 STEEP = ROOT / "configs/scenes/steep.yaml"
@@ -39,7 +39,7 @@ def test_a_design_whose_kit_collides_ends_as_collides_naming_the_parts_the_frame
     assert said.startswith("frame 1's side card (far) meets the side card (far) of frame 0 at its end stop from "
                            f"theta1 = {d.rest_angle_deg:.1f} deg")
     _, depth, end = hollow_card(d)
-    half = max(d.La, d.Lb) + END
+    half = card_half_length(d) * 1e-3
     turning = ring(s.pitch, s.rise, math.radians(d.rest_angle_deg), half, depth * 5e-4, end * 1e-3)
     still = ring(0.0, 0.0, math.radians(d.stop_angle_deg), half, depth * 5e-4, end * 1e-3)
     assert rings_overlap(turning, still)

@@ -17,7 +17,7 @@ from aero_env.cli import main
 from aero_env.parts.kit import parts_json, pieces
 
 from .conftest import PAPER, per_test_under_mutmut
-from .test_kit_readback import crossbeam_gap, hollow_card
+from .test_kit_readback import card_half_length, crossbeam_gap, hollow_card
 
 PT = 25.4 / 72  # mm per PDF point
 PAGE_MM = {"a4": (210.0, 297.0), "letter": (215.9, 279.4)}
@@ -112,7 +112,7 @@ def test_every_page_is_its_paper_and_every_copy_a_build_needs_is_whole_on_one(ki
     # windows cut out: two for each wide frame (1, 3, ...); the narrow frames' are cut away where their neighbours
     # pass, two for each of theirs
     d, frames = paper_cfg.design, paper_cfg.scene.frames
-    length = 2 * (max(d.La, d.Lb) + 4e-3) * 1e3
+    length = 2 * card_half_length(d)
     layers, depth, end = hollow_card(d)
     copies = 2 * (frames // 2) * layers
     assert drawn[tuple(sorted((round(length, 1), round(depth, 1))))] == copies
@@ -183,7 +183,7 @@ def test_the_same_kit_is_the_same_bytes(kit, tmp_path):
     assert (tmp_path / "again.pdf").read_bytes() == (kit / "kit-a4.pdf").read_bytes()
 
 
-def test_a_piece_longer_than_a_page_is_cut_by_measure_and_said_so_on_the_first_page(tmp_path):
+def test_a_piece_longer_than_a_page_is_cut_by_measure_and_said_so_on_the_first_page(tmp_path, paper_cfg):
     """A row whose first axis stands half a metre up: its uprights (510 mm and more) fit no page; the kit draws the
     rest and the bill says how to cut them, by measure."""
     out = tmp_path / "tall.pdf"
@@ -192,8 +192,10 @@ def test_a_piece_longer_than_a_page_is_cut_by_measure_and_said_so_on_the_first_p
     bill = " ".join(reader.pages[0].extract_text().split())
     assert "Cut by measure (longer than a page): upright under the first axis, 6 copies of 10.0 x 510.0 mm." in bill
     labels = "\n".join(p.extract_text() for p in reader.pages[1:])
-    # the wide frames' side cards: 4 frames, 2 cards each of 3 layers
-    assert "upright under the first axis (" not in labels and "swing frame side card, wide frames (24/24)" in labels
+    # the wide frames' side cards: 4 frames, 2 cards each of the hollow card's layers
+    copies = 4 * 2 * hollow_card(paper_cfg.design)[0]
+    assert "upright under the first axis (" not in labels
+    assert f"swing frame side card, wide frames ({copies}/{copies})" in labels
 
 
 @pytest.mark.parametrize("config", sorted((PAPER.parent / "scenes/solutions").glob("*.yaml")), ids=lambda p: p.stem)

@@ -247,36 +247,45 @@ def ring_polar(H, V, e):
     return area, parts[0][1] - parts[1][1] - parts[2][1] - math.pi * HOLE_R**4 / 2
 
 
-def hollow_card(d):
-    """(layers, depth, end bar) in mm of the side card the article's frame asks for, worked out here on its own: the
-    fewest layers (1-6) with a card at most 40 mm deep that weighs m1/2 and swings as A13 says about its hole, its end
-    bars at least a strip, its windows holding the stopper skewer (1 mm radius, meeting the 3 mm half hub bar at rest
-    and at the end stop). Scanned finely, then brentq."""
+COIN_RIM = 1.0  # mm of card all round the counterbalance's coins (their radius: COIN_R)
+def hollow_card_full(d):
+    """(half length, layers, depth, end bar) in mm of the side card the article's frame asks for, worked out here on
+    its own: the fewest layers (1-6) with a card at most 40 mm deep that weighs m1/2 and swings as A13 says about its
+    hole, its end bars at least a strip, its windows holding the stopper skewer (1 mm radius, meeting the 3 mm half hub
+    bar at rest and at the end stop). First a card that holds the counterbalance's coins (a disc of a coin's radius on
+    (La, h), with 1 mm of card round it: long enough, deep enough, its windows short of it); where none does, the
+    shortest card (4 mm past the farther of the seat and the mark). Scanned finely, then brentq."""
     from scipy.optimize import brentq
 
-    H = max(d.La, d.Lb) * 1e3 + END
+    short = max(d.La, d.Lb) * 1e3 + END
+    seat = COIN_R + COIN_RIM
     half = math.radians(d.stop_angle_deg - d.rest_angle_deg + 15.0) / 2  # each stopper off the line: 15 deg to spare
     r_pin = (HUB / 2 + SKEWER_R) / math.cos(half)
     need_u, need_v = r_pin + SKEWER_R, r_pin * math.sin(half) + SKEWER_R
     a13 = 2 * d.m1 / 3 * (d.La**2 + d.Lb**2 - d.La * d.Lb)  # kg·m², both cards
-    for n in range(1, 7):
-        per_layer = d.m1 / 2 / G * 1e6 / n  # mm²
-        aim = a13 / 2 / (G * n) * 1e12  # mm⁴: one card's inertia over n layers' kg/m²
+    tries = [(max(short, d.La * 1e3 + seat), abs(d.h) * 1e3 + seat, d.La * 1e3 - seat), (short, 0.0, math.inf)]
+    for H, least_v, inner in tries:
+        for n in range(1, 7):
+            per_layer = d.m1 / 2 / G * 1e6 / n  # mm²
+            aim = a13 / 2 / (G * n) * 1e12  # mm⁴: one card's inertia over n layers' kg/m²
 
-        def end_bar(V):  # the end bar that gives one layer per_layer of card
-            return H - HUB / 2 - (4 * H * V - HOLE_AREA - per_layer) / 2 / (2 * (V - STRIP))
+            def end_bar(V):  # the end bar that gives one layer per_layer of card
+                return H - HUB / 2 - (4 * H * V - HOLE_AREA - per_layer) / 2 / (2 * (V - STRIP))
 
-        def fits(V):
-            e = end_bar(V)
-            return e >= STRIP and H - e > HUB / 2 and H - e >= need_u and V - STRIP >= need_v
+            def fits(V):
+                e = end_bar(V)
+                return e >= STRIP and H - e > HUB / 2 and H - e >= need_u and V - STRIP >= need_v and H - e <= inner
 
-        grid = np.linspace(STRIP + need_v, DEPTH_MAX / 2, 2001)
-        gap = [ring_polar(H, V, end_bar(V))[1] - aim if fits(V) else math.nan for V in grid]
-        for (v0, g0), (v1, g1) in zip(zip(grid, gap), zip(grid[1:], gap[1:])):
-            if g0 * g1 <= 0:
-                V = brentq(lambda V: ring_polar(H, V, end_bar(V))[1] - aim, v0, v1, xtol=1e-12)
-                return n, 2 * V, end_bar(V)
+            grid = np.linspace(max(STRIP + need_v, least_v), DEPTH_MAX / 2, 2001)
+            if grid[0] >= DEPTH_MAX / 2:
+                break
+            gap = [ring_polar(H, V, end_bar(V))[1] - aim if fits(V) else math.nan for V in grid]
+            for (v0, g0), (v1, g1) in zip(zip(grid, gap), zip(grid[1:], gap[1:])):
+                if g0 * g1 <= 0:
+                    V = brentq(lambda V: ring_polar(H, V, end_bar(V))[1] - aim, v0, v1, xtol=1e-12)
+                    return H, n, 2 * V, end_bar(V)
     # none reaches A13 40 mm deep or less: the 40 mm card of the layer count that comes nearest; else flat cards
+    H = short
     best = None
     for n in range(1, 7):
         per_layer = d.m1 / 2 / G * 1e6 / n
@@ -286,10 +295,20 @@ def hollow_card(d):
             miss = abs(ring_polar(H, V, e)[1] * G * n * 1e-12 - a13 / 2)
             best = min(best or (miss, n, 2 * V, e), (miss, n, 2 * V, e))
     if best is not None:
-        return best[1:]
+        return (H, *best[1:])
     card = d.m1 / 2 / G * 1e6
     n = n_layers(card, 2 * H, FRAME_DEPTH_MAX)
-    return n, (card / n + HOLE_AREA) / (2 * H), None
+    return H, n, (card / n + HOLE_AREA) / (2 * H), None
+
+
+def hollow_card(d):
+    """(layers, depth, end bar) in mm of :func:`hollow_card_full`'s card."""
+    return hollow_card_full(d)[1:]
+
+
+def card_half_length(d) -> float:
+    """mm: the hole to each end of :func:`hollow_card_full`'s card."""
+    return hollow_card_full(d)[0]
 
 
 GAP_NESTED = 1.0  # mm: a wide frame's card outside the narrow card beside it; the crossbeams outside every part
@@ -337,7 +356,7 @@ def expected_pieces(cfg, parts=None, cut=frozenset()) -> dict:
     d, s = cfg.design, cfg.scene
     out = {}
     card = d.m1 / 2 / G * 1e6  # one side card's card over all its layers, mm²
-    L = 2 * (max(d.La, d.Lb) * 1e3 + END)
+    L = 2 * card_half_length(d)
     n, D, e = hollow_card(d)
     legs = (d.notch_back_face + d.notch_front_face) * 1e3
     rail = d.handrail_mass / G * 1e6
@@ -1231,7 +1250,7 @@ def test_sheet_md_gives_every_part_in_mm_and_g_as_the_config_says(sheet):
         r"flat)$", rows["its card (m1): two side cards, each of them"])
     printed(each, d.m1 / 2 * 1e3, 2), printed(both, d.m1 * 1e3, 2)
     n, D, e = hollow_card(d)  # the article's hollow card, whichever frames keep it whole
-    printed(length, 2 * (max(d.La, d.Lb) * 1e3 + END), 1), printed(depth, D, 1)
+    printed(length, 2 * card_half_length(d), 1), printed(depth, D, 1)
     assert int(layers or 1) == n
     assert bool(hollow) == (e is not None)
     by = {p["id"]: p for p in parts["parts"]}
@@ -1376,8 +1395,10 @@ def test_the_notes_begin_past_their_bounds_not_at_them(paper_cfg):
     assert kit.NARROWEST == pytest.approx(NARROWEST, rel=1e-12)
     assert kit._too_narrow("arm", kit.NARROWEST) == ""
     assert kit._too_narrow("arm", kit.NARROWEST - 1e-9).startswith(" NOTE: 4.4 mm is narrower than the 4.4 mm")
-    for m1 in np.linspace(0.0039, 0.0041, 2001):  # a side card whose half depth, in mm, survives m -> mm -> m
-        cfg = paper_cfg.replace({"design.m1": float(m1)})
+    # a side card whose half depth, in mm, survives m -> mm -> m; its counterbalance 15 mm off the line, where no card
+    # 40 mm deep holds the coins (26 mm of card off the line), so that the card is the same for any h from there on
+    for m1 in np.linspace(0.0039, 0.0041, 2001):
+        cfg = paper_cfg.replace({"design.m1": float(m1), "design.h": 0.015})
         half = float(build.side_card(cfg.design)["depth"]) * 1e3 / 2
         if abs(half / 1e3) * 1e3 == half:
             break

@@ -16,7 +16,7 @@ from aero_env.parts.clearance import static_sweep
 from aero_env.parts.solids import assembly, identical_layout
 
 from .conftest import PAPER, per_test_under_mutmut
-from .test_kit_readback import hollow_card
+from .test_kit_readback import card_half_length, hollow_card
 
 CARD_T = 0.4e-3  # m, the paper's card (Sec. 6)
 GRAMMAGE = 0.310  # kg/m²
@@ -105,7 +105,7 @@ def test_the_glb_has_a_node_per_frame_on_its_axis_turning_about_local_z(glb, pap
     assert roots == {f"frame-{i}" for i in range(s.frames)} | {"robot", "stand"}
     rest = math.radians(d.rest_angle_deg)
     coins, clay_g = math.floor(d.m3 / 1e-3 + 1e-9), round((d.m3 - math.floor(d.m3 / 1e-3 + 1e-9) * 1e-3) * 1e3, 1)
-    half = max(d.La, d.Lb) + END
+    half = card_half_length(d) * 1e-3
 
     def extent(name):
         v, _ = mesh_of(gltf, binary, nodes[name][1])
@@ -118,7 +118,7 @@ def test_the_glb_has_a_node_per_frame_on_its_axis_turning_about_local_z(glb, pap
         np.testing.assert_allclose(pose[:3, 3], [i * s.pitch, i * s.rise, 0.0], atol=1e-12)  # origin on the axis
         np.testing.assert_allclose(pose[:3, 2], [0.0, 0.0, 1.0], atol=1e-12)  # local z: the axis
         np.testing.assert_allclose(pose[:3, 0], [math.cos(rest), math.sin(rest), 0.0], atol=1e-12)  # at rest
-        # the side cards run END past the farther of the seat and the counterbalance, either way along local x (the
+        # the side cards run to the hollow card's ends (test_kit_readback works them out), either way along local x (the
         # narrow frames' cut away no further); their inner faces span apart, the near card on +z
         wide = i % 2
         for card, sign in (("near", 1), ("far", -1)):
@@ -224,7 +224,7 @@ def test_todays_layout_collides_where_plane_geometry_says(paper_cfg):
     card at rest from the angle at which the two cards (each the rectangles a hollow card is made of) first overlap
     in the plane."""
     d, s = paper_cfg.design, paper_cfg.scene
-    half = max(d.La, d.Lb) + END
+    half = card_half_length(d) * 1e-3
     layers, depth_mm, end_mm = hollow_card(d)  # the article's hollow side card, worked out in test_kit_readback
     depth = depth_mm * 1e-3  # its outline; the windows lie inside it, its end bars (solid) reach its corners
     assert end_mm > 3.0

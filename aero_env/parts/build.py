@@ -77,6 +77,7 @@ HUB_BAR = 6.0e-3  # m: the hollow side card's bar across its middle, the hole in
 RING_DEPTH_MAX = 40.0e-3  # m: a hollow side card's depth across the frame line, at most (then another layer)
 STOPPER_SPARE_DEG = 15.0  # deg a rest stopper may move lower and still turn in the window (troubleshooting's reach)
 RING_LAYERS_MAX = 6  # layers a hollow side card may have; a design no ring of these fits has flat side cards
+COIN_RIM = 1.0e-3  # m: card all round the counterbalance's coins, so that a stack a little off its mark stays on card
 
 
 def laminate(area, length, max_width):
@@ -101,9 +102,23 @@ def lightest_plate(length):
 
 # ---- the swing frame ------------------------------------------------------------------------------------------
 def side_card_length(d: Design):
-    """A side card's length (m): symmetric about its hole, ``END`` past the farther of the seat and the
-    counterbalance."""
+    """The shortest side card's length (m): symmetric about its hole, ``END`` past the farther of the seat and the
+    counterbalance's mark. A card that holds the counterbalance's coins may be longer (:func:`coin_card_length`)."""
     return 2.0 * (np.maximum(d.La, d.Lb) + END)
+
+
+def coin_card_length(d: Design):
+    """A side card's length (m) that also runs ``COIN_RIM`` past the counterbalance's coins (:func:`coin_seat`)."""
+    return np.maximum(side_card_length(d), 2.0 * (d.La + YEN_COIN_RADIUS + COIN_RIM))
+
+
+def coin_seat(d: Design) -> dict:
+    """Where the counterbalance's coins and clay sit on a side card: a disc of a coin's size centred on the mark
+    (La, h), and the card it needs round it, ``COIN_RIM`` wide: ``half_depth`` (the card must reach that far either
+    side of the frame line) and ``inner`` (how far from the hole a window may reach towards the counterbalance: the
+    end bar then holds the whole stack). m, floats or arrays."""
+    rim = YEN_COIN_RADIUS + COIN_RIM
+    return dict(centre=(d.La, d.h), radius=YEN_COIN_RADIUS, half_depth=np.abs(d.h) + rim, inner=d.La - rim)
 
 
 def a13_inertia(d: Design):
@@ -154,59 +169,77 @@ RING_GRID = 64  # depths tried per layer count before the root is bisected: a fi
 
 def fit_ring(d: Design):
     """The hollow side card that weighs m1/2 and swings as A13 says (half of :func:`a13_inertia` about its hole),
-    per design (floats or arrays): ``hollow`` (found), ``layers``, ``half_depth`` and ``end`` (m). The fewest
-    layers (1 to ``RING_LAYERS_MAX``) whose card is at most ``RING_DEPTH_MAX`` deep, its end bars at least a
-    strip long and its windows at least the stopper's (:func:`stopper_reach`); the shallowest such card. Where no
-    card reaches A13 that way, the one ``RING_DEPTH_MAX`` deep whose layer count comes nearest; ``hollow`` is False
-    only where no such card fits at all (then :func:`side_card` cuts flat cards)."""
-    half = np.atleast_1d(np.asarray(side_card_length(d) / 2.0, float))
-    rows = np.arange(len(half))
-    each = np.broadcast_to(np.asarray(d.m1 / 2.0, float), half.shape)
-    target = np.broadcast_to(np.asarray(a13_inertia(d) / 2.0, float), half.shape)
-    reach_u, reach_v = (np.broadcast_to(np.asarray(r, float), half.shape) for r in stopper_reach(d))
-    v_lo = MIN_STRIP + np.minimum(reach_v, RING_DEPTH_MAX)
-    V = v_lo[:, None] + np.linspace(0.0, 1.0, RING_GRID)[None, :] * (RING_DEPTH_MAX / 2 - v_lo[:, None])
+    per design (floats or arrays): ``hollow`` (found), ``layers``, ``half_length``, ``half_depth`` and ``end`` (m).
 
-    def shape_at(V, layer_area):  # the end bars that make one layer carry layer_area at depth V, and whether they can
-        window = (4.0 * half[:, None] * V - hole_area() - layer_area[:, None]) / 2.0
-        w_l = window / (2.0 * (V - MIN_STRIP))
+    The fewest layers (1 to ``RING_LAYERS_MAX``) whose card is at most ``RING_DEPTH_MAX`` deep, its end bars at
+    least a strip long and its windows at least the stopper's (:func:`stopper_reach`); the shallowest such card. First
+    a card that holds the counterbalance's coins (:func:`coin_card_length` long, deep enough and its windows short of
+    the coins, :func:`coin_seat`); where none swings as A13 says, the shortest card (:func:`side_card_length`),
+    which may leave the coins over its edge or a window (the kit says so). Where no card reaches A13 that way, the
+    shortest card ``RING_DEPTH_MAX`` deep whose layer count comes nearest; ``hollow`` is False only where no such
+    card fits at all (then :func:`side_card` cuts flat cards)."""
+    plain = np.atleast_1d(np.asarray(side_card_length(d) / 2.0, float))
+    long_ = np.broadcast_to(np.asarray(coin_card_length(d) / 2.0, float), plain.shape)
+    rows = np.arange(len(plain))
+    each = np.broadcast_to(np.asarray(d.m1 / 2.0, float), plain.shape)
+    target = np.broadcast_to(np.asarray(a13_inertia(d) / 2.0, float), plain.shape)
+    reach_u, reach_v = (np.broadcast_to(np.asarray(r, float), plain.shape) for r in stopper_reach(d))
+    seat = coin_seat(d)
+    seat_v, seat_u = (np.broadcast_to(np.asarray(seat[k], float), plain.shape) for k in ("half_depth", "inner"))
+    anywhere = np.full(plain.shape, np.inf)
+
+    def shape_at(half, V, layer_area, inner):  # the end bars that make one layer carry layer_area at depth V, and
+        window = (4.0 * half[:, None] * V - hole_area() - layer_area[:, None]) / 2.0  # whether they can, the windows
+        w_l = window / (2.0 * (V - MIN_STRIP))  # reaching at most ``inner`` from the hole
         e = half[:, None] - HUB_BAR / 2 - w_l
-        return e, (w_l > 0) & (e >= MIN_STRIP) & (HUB_BAR / 2 + w_l >= reach_u[:, None])
+        return e, ((w_l > 0) & (e >= MIN_STRIP) & (HUB_BAR / 2 + w_l >= reach_u[:, None])
+                   & (HUB_BAR / 2 + w_l <= inner[:, None]))
 
-    found = np.zeros(half.shape, bool)
-    layers_out, v_out, e_out = np.ones(half.shape), np.full(half.shape, np.nan), np.full(half.shape, np.nan)
-    for layers in range(1, RING_LAYERS_MAX + 1):
-        layer_area = each / (GRAMMAGE * layers)
-        aim = target / (GRAMMAGE * layers)
-        e, ok = shape_at(V, layer_area)
-        gap = np.where(ok, ring_moments(half[:, None], V, e)[1] - aim[:, None], np.nan)
-        cross = ok[:, :-1] & ok[:, 1:] & (np.sign(gap[:, :-1]) != np.sign(gap[:, 1:]))
-        has = cross.any(axis=1) & ~found
-        if not has.any():
-            continue
-        k = np.argmax(cross, axis=1)
-        lo, hi, g_lo = V[rows, k], V[rows, k + 1], gap[rows, k]
-        for _ in range(60):  # bisection: the gap keeps its sign at lo
-            mid = (lo + hi) / 2.0
-            g = ring_moments(half, mid, shape_at(mid[:, None], layer_area)[0][:, 0])[1] - aim
-            same = np.sign(g) == np.sign(g_lo)
-            lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
-        v_star = (lo + hi) / 2.0
-        layers_out = np.where(has, layers, layers_out)
-        v_out = np.where(has, v_star, v_out)
-        e_out = np.where(has, shape_at(v_star[:, None], layer_area)[0][:, 0], e_out)
-        found |= has
-        if found.all():
-            break
+    def fit(half, v_least, inner, todo):  # (found, layers, half depth, end) of the rows ``todo``
+        found = np.zeros(plain.shape, bool)
+        layers_out, v_out, e_out = np.ones(plain.shape), np.full(plain.shape, np.nan), np.full(plain.shape, np.nan)
+        v_lo = np.minimum(v_least, RING_DEPTH_MAX / 2)
+        V = v_lo[:, None] + np.linspace(0.0, 1.0, RING_GRID)[None, :] * (RING_DEPTH_MAX / 2 - v_lo[:, None])
+        for layers in range(1, RING_LAYERS_MAX + 1):
+            if found[todo].all():
+                break
+            layer_area = each / (GRAMMAGE * layers)
+            aim = target / (GRAMMAGE * layers)
+            e, ok = shape_at(half, V, layer_area, inner)
+            gap = np.where(ok, ring_moments(half[:, None], V, e)[1] - aim[:, None], np.nan)
+            cross = ok[:, :-1] & ok[:, 1:] & (np.sign(gap[:, :-1]) != np.sign(gap[:, 1:]))
+            has = cross.any(axis=1) & ~found & todo
+            if not has.any():
+                continue
+            k = np.argmax(cross, axis=1)
+            lo, hi, g_lo = V[rows, k], V[rows, k + 1], gap[rows, k]
+            for _ in range(60):  # bisection: the gap keeps its sign at lo
+                mid = (lo + hi) / 2.0
+                g = ring_moments(half, mid, shape_at(half, mid[:, None], layer_area, inner)[0][:, 0])[1] - aim
+                same = np.sign(g) == np.sign(g_lo)
+                lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
+            v_star = (lo + hi) / 2.0
+            layers_out = np.where(has, layers, layers_out)
+            v_out = np.where(has, v_star, v_out)
+            e_out = np.where(has, shape_at(half, v_star[:, None], layer_area, inner)[0][:, 0], e_out)
+            found |= has
+        return found, layers_out, v_out, e_out
+
+    v_least = MIN_STRIP + np.minimum(reach_v, RING_DEPTH_MAX)
+    held = fit(long_, np.maximum(v_least, seat_v), seat_u, seat_v <= RING_DEPTH_MAX / 2)
+    plain_fit = fit(plain, v_least, anywhere, ~held[0])
+    found = held[0] | plain_fit[0]
+    layers_out, v_out, e_out = (np.where(held[0], a, b) for a, b in zip(held[1:], plain_fit[1:]))
+    half_out = np.where(held[0], long_, plain)
     # where no card reaches A13 within the depth limit: the card at the limit, of the layer count that comes nearest
     # (a light, long frame's falls short), so that I1 moves on smoothly past the limit rather than dropping to a
     # flat card's
-    nearest = np.full(half.shape, np.inf)
-    near = [np.ones(half.shape), np.full(half.shape, np.nan), np.full(half.shape, np.nan)]
-    V_max = np.full((len(half), 1), RING_DEPTH_MAX / 2)
+    nearest = np.full(plain.shape, np.inf)
+    near = [np.ones(plain.shape), np.full(plain.shape, np.nan), np.full(plain.shape, np.nan)]
+    V_max = np.full((len(plain), 1), RING_DEPTH_MAX / 2)
     for layers in range(1, RING_LAYERS_MAX + 1):
-        e, ok = shape_at(V_max, each / (GRAMMAGE * layers))
-        miss = np.where(ok[:, 0], np.abs(GRAMMAGE * layers * ring_moments(half, V_max[:, 0], e[:, 0])[1] - target),
+        e, ok = shape_at(plain, V_max, each / (GRAMMAGE * layers), anywhere)
+        miss = np.where(ok[:, 0], np.abs(GRAMMAGE * layers * ring_moments(plain, V_max[:, 0], e[:, 0])[1] - target),
                         np.inf)
         better = miss < nearest
         nearest = np.where(better, miss, nearest)
@@ -216,13 +249,14 @@ def fit_ring(d: Design):
     layers_out, v_out, e_out = (np.where(use_near, n, o) for n, o in zip(near, (layers_out, v_out, e_out)))
     hollow = found | use_near
     pick = (lambda a: a[0].item()) if np.ndim(side_card_length(d)) == 0 else (lambda a: a)
-    return dict(hollow=pick(hollow), layers=pick(layers_out), half_depth=pick(v_out), end=pick(e_out))
+    return dict(hollow=pick(hollow), layers=pick(layers_out), half_length=pick(half_out), half_depth=pick(v_out),
+                end=pick(e_out))
 
 
 @functools.lru_cache(maxsize=4096)
-def _fit_ring_one(La: float, Lb: float, m1: float, rest_angle_deg: float, stop_angle_deg: float) -> dict:
+def _fit_ring_one(La: float, Lb: float, m1: float, h: float, rest_angle_deg: float, stop_angle_deg: float) -> dict:
     """:func:`fit_ring` of one design, kept: a world is built per episode, the same frame over and over."""
-    return fit_ring(types.SimpleNamespace(La=La, Lb=Lb, m1=m1, rest_angle_deg=rest_angle_deg,
+    return fit_ring(types.SimpleNamespace(La=La, Lb=Lb, m1=m1, h=h, rest_angle_deg=rest_angle_deg,
                                           stop_angle_deg=stop_angle_deg))
 
 
@@ -230,31 +264,36 @@ def side_card(d: Design) -> dict:
     """One of a frame's two side cards: ``half_length`` (hole to each end), ``depth``, ``layers``, ``mass``,
     ``I_axis`` (about the skewer, which is its centre) and, for the article's hollow frame (``hollow``), ``end``
     (each end bar's length), ``window`` and ``window_depth`` (each of the two windows along and across the frame
-    line, 0 for a flat card), ``strip`` (the long strips' width) and ``hub`` (the bar across the middle). Both
+    line, 0 for a flat card), ``strip`` (the long strips' width), ``hub`` (the bar across the middle) and
+    ``holds_coins`` (the counterbalance's coins lie wholly on card, :func:`coin_seat`). Both
     cards together weigh m1. Hollow where :func:`fit_ring` finds a card that swings as A13 says; else a flat card
     of the fewest layers at most ``FRAME_DEPTH_MAX`` deep, as wide as its card makes it."""
-    length = side_card_length(d)
-    half = length / 2.0
+    flat_length = side_card_length(d)
     mass = d.m1 / 2.0
     card = mass / GRAMMAGE  # m² of card over all layers, the hole's card already gone
-    flat_layers, _ = laminate(card, length, FRAME_DEPTH_MAX)
+    flat_layers, _ = laminate(card, flat_length, FRAME_DEPTH_MAX)
     # each layer is length x depth less the hole: solve depth so that it carries card / layers exactly
-    flat_depth = (card / flat_layers + hole_area()) / length
-    flat_I = GRAMMAGE * flat_layers * (length * flat_depth * (length**2 + flat_depth**2) / 12.0
+    flat_depth = (card / flat_layers + hole_area()) / flat_length
+    flat_I = GRAMMAGE * flat_layers * (flat_length * flat_depth * (flat_length**2 + flat_depth**2) / 12.0
                                        - math.pi * (HOLE_D / 2) ** 4 / 2.0)
-    ring = fit_ring(d) if np.ndim(length) else _fit_ring_one(float(d.La), float(d.Lb), float(d.m1),
-                                                            float(d.rest_angle_deg), float(d.stop_angle_deg))
+    ring = fit_ring(d) if np.ndim(flat_length) else _fit_ring_one(float(d.La), float(d.Lb), float(d.m1), float(d.h),
+                                                                 float(d.rest_angle_deg), float(d.stop_angle_deg))
     hollow = ring["hollow"]
+    half = np.where(hollow, ring["half_length"], flat_length / 2.0)
+    length = 2.0 * half
     ring_V = np.where(hollow, ring["half_depth"], flat_depth / 2.0)
     ring_e = np.where(hollow, ring["end"], half)
     ring_I = GRAMMAGE * ring["layers"] * ring_moments(half, ring_V, ring_e)[1]
-    pick = (lambda a: np.asarray(a).item()) if np.ndim(length) == 0 else np.asarray
+    pick = (lambda a: np.asarray(a).item()) if np.ndim(flat_length) == 0 else np.asarray
     window = np.where(hollow, half - ring_e - HUB_BAR / 2, 0.0)
-    return dict(half_length=half, length=length, depth=pick(np.where(hollow, 2.0 * ring_V, flat_depth)),
+    seat = coin_seat(d)  # the coins on card: within its length and depth, clear of its windows (to 1 nm: the fit's)
+    holds_coins = ((half >= d.La + YEN_COIN_RADIUS + COIN_RIM - 1e-9) & (ring_V >= seat["half_depth"] - 1e-9)
+                   & (~np.asarray(hollow) | (HUB_BAR / 2 + window <= seat["inner"] + 1e-9)))
+    return dict(half_length=pick(half), length=pick(length), depth=pick(np.where(hollow, 2.0 * ring_V, flat_depth)),
                 layers=pick(np.where(hollow, ring["layers"], flat_layers)), mass=mass,
                 I_axis=pick(np.where(hollow, ring_I, flat_I)), hollow=pick(hollow), end=pick(ring_e),
                 window=pick(window), window_depth=pick(np.where(hollow, 2.0 * (ring_V - MIN_STRIP), 0.0)),
-                strip=MIN_STRIP, hub=HUB_BAR)
+                strip=MIN_STRIP, hub=HUB_BAR, holds_coins=pick(holds_coins))
 
 
 def stopper_offsets(d) -> tuple[tuple[float, float], tuple[float, float]]:
