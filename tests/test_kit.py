@@ -116,7 +116,10 @@ def test_the_prototype_reaches_table_1_part_by_part():
     torso = by["torso"]
     assert torso.card_area_m2 * torso.layers * GRAMMAGE == pytest.approx(2.0e-3, rel=0.03)
     assert sum(kg for _, kg in torso.added) == pytest.approx(4.0e-3, rel=0.03)
-    assert by["counterbalance"].mass_kg == pytest.approx(7.2e-3, rel=0.03)
+    # the counterbalance on its two coin seats (squares of card 22 mm a side, one layer)
+    seats = 2 * 22e-3**2 * GRAMMAGE
+    assert by["coin seat"].mass_kg * 2 == pytest.approx(seats, rel=1e-12)
+    assert by["counterbalance"].mass_kg + seats == pytest.approx(7.2e-3, rel=1e-12)
 
 
 def test_the_template_is_in_mm_and_marks_cuts_and_folds_by_class(kit):

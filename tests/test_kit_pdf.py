@@ -165,10 +165,12 @@ def test_each_copy_is_labelled_once_and_the_bill_reads_back_against_the_config(k
     bill = " ".join(pages[0].split())
     d, s = paper_cfg.design, paper_cfg.scene
     assert f"Card: {len(pages) - 1} A4 sheets of 0.4 mm, 310 g/m² card" in bill
-    coins = s.frames * math.floor(d.m3 / 1e-3 + 1e-9) + round(d.coin_mass / 1e-3)
-    assert f"One-yen coins (1.00 g, 20 mm across): {coins} " in bill
-    clay = d.m3 - math.floor(d.m3 / 1e-3 + 1e-9) * 1e-3
-    assert f"Modelling clay: {s.frames * clay * 1e3:.1f} g" in bill
+    seats = 2 * 22e-3**2 * 0.310  # kg: each counterbalance's two coin seats (squares of card 22 mm a side)
+    per = math.floor((d.m3 - seats) / 1e-3 + 1e-9)
+    assert f"One-yen coins (1.00 g, 20 mm across): {s.frames * per + round(d.coin_mass / 1e-3)} " in bill
+    clay = d.m3 - seats - per * 1e-3
+    assert (f"Modelling clay: {s.frames * clay * 1e3:.1f} g ({clay * 1e3:.2f} g per counterbalance: weigh it with the "
+            f"counterbalance's 2 coin seats, {(clay + seats) * 1e3:.2f} g together, on a kitchen scale") in bill
     # mm: the crossbeams' inner faces apart (clear of every frame's parts), 3 layers each, 2 mm proud each end
     across = crossbeam_gap(paper_cfg, parts_json(paper_cfg)) + 2 * 3 * 0.4 + 2 * 2
     assert (f"{s.frames} x {across:.0f} mm (rotation axis), {2 * s.frames} x {across:.0f} mm (stopper), 1 x " in bill)

@@ -248,6 +248,19 @@ def ring_polar(H, V, e):
 
 
 COIN_RIM = 1.0  # mm of card all round the counterbalance's coins (their radius: COIN_R)
+SEAT = 2 * (10.0 + COIN_RIM)  # mm: a coin seat's side (a square of card, one layer, under each stack of coins)
+SEATS = 2  # a counterbalance's stacks, each on its seat
+
+
+def counterbalance_of(d) -> tuple[int, float, float]:
+    """(whole coins, clay kg, coin seats kg) of a counterbalance: its two coin seats' card, then whole one-yen coins,
+    then clay for the rest of m3."""
+    seats = SEATS * SEAT**2 * 1e-6 * G
+    coins = max(math.floor((d.m3 - seats) / COIN + 1e-9), 0)
+    clay = d.m3 - seats - coins * COIN
+    return coins, (clay if clay > 1e-9 else 0.0), seats
+
+
 def hollow_card_full(d):
     """(half length, layers, depth, end bar) in mm of the side card the article's frame asks for, worked out here on
     its own: the fewest layers (1-6) with a card at most 40 mm deep that weighs m1/2 and swings as A13 says about its
@@ -369,11 +382,12 @@ def expected_pieces(cfg, parts=None, cut=frozenset()) -> dict:
             out[pid].update(layers=by[pid]["layers"], card=None, outline=None, end=None, mass=None)
         out["part-handrail" + suffix(kind)] = dict(count=len(served), layers=1, card=rail, outline=(rail / legs, legs),
                                                    added=[], mass=d.handrail_mass, frames=served, kind=kind)
-    coins = math.floor(d.m3 / COIN + 1e-9)
-    clay = d.m3 - coins * COIN
+    coins, clay, seats = counterbalance_of(d)
     out["part-counterbalance"] = dict(count=s.frames, layers=0, card=0.0, outline=None,
                                       added=([coins * COIN] if coins else []) + ([clay] if clay > 1e-9 else []),
-                                      mass=d.m3)
+                                      mass=d.m3 - seats)
+    out["part-coin-seat"] = dict(count=SEATS * s.frames, layers=1, card=SEAT**2, outline=(SEAT, SEAT), added=[],
+                                 mass=seats / SEATS)
     torso_card = (d.m2 - d.arm_mass - d.coin_mass - d.handrail_mass) / G * 1e6
     length = END + d.torso_length * 1e3
     n = n_layers(torso_card, length, TORSO_WIDTH_MAX)
@@ -435,7 +449,8 @@ def test_parts_json_gives_each_pieces_card_and_mass_exactly(kit, request):
         return sum(per_unit * by[name + suffix(k)]["mass_kg"] * len(f) / cfg.scene.frames for k, f in kinds.items())
 
     rail = over_kinds("part-handrail")
-    made = {"design.m1": over_kinds("part-frame-side-card", 2), "design.m3": by["part-counterbalance"]["mass_kg"],
+    made = {"design.m1": over_kinds("part-frame-side-card", 2),
+            "design.m3": by["part-counterbalance"]["mass_kg"] + SEATS * by["part-coin-seat"]["mass_kg"],
             "design.arm_mass": by["part-arm"]["mass_kg"], "design.handrail_mass": rail,
             "design.m2": by["part-torso"]["mass_kg"] + by["part-arm"]["mass_kg"] + rail}
     assert set(parts["fields"]) == set(made)
@@ -454,6 +469,7 @@ PIECES = {"part-frame-side-card": ("swing frame side card", "design.m1", 2, []),
           **{f"part-handrail-{k}": (f"handrail, {k} frames", "design.handrail_mass", 1, ["design.m2"])
              for k in ("narrow", "wide")},
           "part-counterbalance": ("counterbalance", "design.m3", 1, []),
+          "part-coin-seat": ("coin seat", "design.m3", 2, []),
           "part-torso": ("torso", "design.m2", 1, []),
           "part-arm": ("arm", "design.arm_mass", 1, ["design.m2"]),
           "part-leaf-spring": ("leaf spring", "design.spring_k", None, []),
@@ -470,8 +486,8 @@ def test_parts_json_names_each_piece_and_the_field_it_makes(kit, request):
     kinds = frame_kinds(parts)
     assert ids == [*beams, "part-upright-first", "part-upright-last",
                    *("part-frame-side-card" + suffix(k) for k in kinds), *("part-handrail" + suffix(k) for k in kinds),
-                   "part-counterbalance", "part-torso", "part-arm", *(["part-leaf-spring"] if "part-leaf-spring" in ids
-                                                                      else [])]
+                   "part-counterbalance", "part-coin-seat", "part-torso", "part-arm",
+                   *(["part-leaf-spring"] if "part-leaf-spring" in ids else [])]
     for p in parts["parts"]:
         if p["id"] in beams:
             k = int(p["id"].rsplit("-", 1)[1])
@@ -484,10 +500,9 @@ def test_parts_json_names_each_piece_and_the_field_it_makes(kit, request):
         assert p["per_unit"] == (p["count"] if per_unit is None else per_unit), p["id"]
     d = cfg.design
     by = {p["id"]: p for p in parts["parts"]}
-    coins = math.floor(d.m3 / COIN + 1e-9)
+    coins, clay, _ = counterbalance_of(d)
     assert [a["what"] for a in by["part-counterbalance"]["added"]] == (
-        [f"{coins} one-yen coin{'' if coins == 1 else 's'}"] if coins else []) + (
-        ["modelling clay"] if d.m3 - coins * COIN > 1e-9 else [])
+        [f"{coins} one-yen coin{'' if coins == 1 else 's'}"] if coins else []) + (["modelling clay"] if clay else [])
     n = d.coin_mass / COIN
     assert [a["what"] for a in by["part-torso"]["added"]] == [
         f"{round(n)} one-yen coins" if abs(n - round(n)) < 1e-6 else f"{d.coin_mass * 1e3:.2f} g of coins"]
@@ -757,28 +772,52 @@ def test_the_counterbalance_is_coins_and_clay_on_a_coins_circle(kit):
     cfg, parts, svg = kit
     d, s = cfg.design, cfg.scene
     text, shapes = svg["part-counterbalance"]
-    coins = math.floor(d.m3 / COIN + 1e-9)
-    clay = d.m3 - coins * COIN > 1e-9
-    between = ("pressed between the side cards, centred on the side card's black cross (the circle: a coin's size, "
-               "not a cut).")
-    kinds = frame_kinds(parts)
-    if "wide" in kinds:  # the wide frames' coins go on their cards' outer faces: the odd coin near, the clay far
-        def stack(n, with_clay):
-            return " and ".join([plural(n, "coin")] * (n > 0) + ["the clay"] * with_clay) or "nothing"
+    coins, clay, seats = counterbalance_of(d)
 
-        between = (f"Narrow frames ({', '.join(map(str, kinds['narrow']))}): {between} Wide frames "
-                   f"({', '.join(map(str, kinds['wide']))}): outside, where no other frame's card passes, glued on "
-                   f"the cards' outer faces, centred on their black crosses: {stack((coins + 1) // 2, False)} on the "
-                   f"near card, {stack(coins // 2, clay)} on the far card.")
-    reads(text, f"COUNTERBALANCE: {s.frames}, 1 per frame, no card: {plural(coins, 'one-yen coin')} and <n> g of "
-                f"modelling clay (<n> g), {between}",
-          ((d.m3 - coins * COIN) * 1e3, 2), (d.m3 * 1e3, 2))
+    def stack(n, with_clay):
+        return " and ".join([plural(n, "coin")] * (n > 0) + ["the clay"] * (with_clay and clay > 0)) or "nothing"
+
+    # two stacks, the odd coin near, the clay far, each on its coin seat: on the cards' inner faces, and the wide
+    # frames' on their outer faces
+    inside = (f"glued on the side cards' inner faces: {stack((coins + 1) // 2, False)} on the near card, "
+              f"{stack(coins // 2, True)} on the far card, each on its coin seat, centred on the card's black cross "
+              f"(the circle: a coin's size, not a cut).")
+    kinds = frame_kinds(parts)
+    where = (f"In two stacks. Narrow frames ({', '.join(map(str, kinds['narrow']))}): {inside} Wide frames "
+             f"({', '.join(map(str, kinds['wide']))}): outside, where no other frame's card passes, glued on the "
+             f"cards' outer faces, the same stacks." if "wide" in kinds else f"In two stacks {inside}")
+    reads(text, f"COUNTERBALANCE: {s.frames}, 1 per frame: {plural(coins, 'one-yen coin')} and <n> g of modelling "
+                f"clay, on 2 coin seats of card (<n> g): <n> g in all, {where}",
+          (clay * 1e3, 2), (seats * 1e3, 2), (d.m3 * 1e3, 2))
     (cx, cy, r), = of(shapes, "circle", "mark")
     drawn(r, 10.0)  # a one-yen coin is 20 mm across
     cross = of(shapes, "line", "mark")
     assert len(cross) == 2 and not of(shapes, "rect") and not of(shapes, "circle", "cut")
     assert all(_is_cross_arm(ln) for ln in cross)
     drawn(sum(ln[0] + ln[2] for ln in cross) / 4, cx, 2), drawn(sum(ln[1] + ln[3] for ln in cross) / 4, cy, 2)
+
+
+def test_the_coin_seat_is_a_square_a_coins_circle_sits_on(kit):
+    """Two per frame, one layer, 22 mm a side (a coin and 1 mm each side), the coin's circle and its centre's cross
+    on it; its caption word for word."""
+    cfg, parts, svg = kit
+    frames = cfg.scene.frames
+    text, shapes = svg["part-coin-seat"]
+    (x, y, w, h), = of(shapes, "rect", "cut")
+    drawn(w, SEAT), drawn(h, SEAT)
+    (cx, cy, r), = of(shapes, "circle", "mark")
+    drawn(r, COIN_R), drawn(cx - x, SEAT / 2, 2), drawn(cy - y, SEAT / 2, 2)  # the coin centred on the square
+    cross = of(shapes, "line", "mark")
+    assert len(cross) == 2 and all(_is_cross_arm(ln) for ln in cross) and not of(shapes, "circle", "cut")
+    drawn(sum(ln[0] + ln[2] for ln in cross) / 4, cx, 2), drawn(sum(ln[1] + ln[3] for ln in cross) / 4, cy, 2)
+    reads(text, f"COIN SEAT: {plural(SEATS * frames, 'square')} ({SEATS * frames} cuts), {SEATS} per frame, one layer: "
+                f"<n> x <n> mm, <n> mm wider each side than a coin (the circle). Glue one on each side card's face "
+                f"where its stack of the counterbalance goes, centred on the black cross, then the stack on it: it "
+                f"holds the coins on card whatever the card's windows do under them. The seats are part of m3.",
+          (SEAT, 1), (SEAT, 1), (COIN_RIM, 1))
+    seat = {p["id"]: p for p in parts["parts"]}["part-coin-seat"]
+    assert (seat["count"], seat["layers"], seat["per_unit"]) == (SEATS * frames, 1, SEATS)
+    assert seat["mass_kg"] == pytest.approx(SEAT**2 * 1e-6 * G, rel=1e-12)
 
 
 def _plate_with_an_end_hole(cfg, svg, piece: str):
@@ -858,15 +897,16 @@ def test_the_leaf_spring_strip_gives_the_stiffness_it_prints(kit):
 
 def crossbeam_gap(cfg, parts) -> float:
     """mm: the crossbeams' inner faces apart: 50 mm, or wider to stand 1 mm clear of every frame's parts across the
-    row: its cards' outer faces, and where the coins go outside (the wide frames), their taller stack on them."""
+    row: its cards' outer faces, and where the coins go outside (the wide frames), their taller stack and its seat."""
     d = cfg.design
-    coins = math.floor(d.m3 / COIN + 1e-9)
-    clay = (d.m3 - coins * COIN) * 1e3 / CLAY_RHO / (math.pi * COIN_R**2)  # mm of clay on a coin's face
+    coins, clay_kg, _ = counterbalance_of(d)
+    clay = clay_kg * 1e3 / CLAY_RHO / (math.pi * COIN_R**2)  # mm of clay on a coin's face
     by = {p["id"]: p for p in parts["parts"]}
     reach = 0.0
     for kind, span in spans(parts).items():
         outer = span / 2 + by["part-frame-side-card" + suffix(kind)]["layers"] * CARD_T
-        stack = max((coins + 1) // 2 * COIN_T, coins // 2 * COIN_T + clay) if kind == "wide" else 0.0
+        # the wide frames' taller stack on its coin seat (one layer of card) on the outer face
+        stack = CARD_T + max((coins + 1) // 2 * COIN_T, coins // 2 * COIN_T + clay) if kind == "wide" else 0.0
         reach = max(reach, outer + stack)
     return max(CROSSBEAM_GAP_MIN, 2 * (reach + GAP_NESTED))
 
@@ -1174,15 +1214,16 @@ def test_sheet_md_reads_as_a_whole(sheet):
     buy = rest[3:rest.index("", 3)]
     assert [ln.split(":")[0] for ln in buy] == ["- Card", "- One-yen coins (1.00 g, 20 mm across)", "- Modelling clay",
                                                 "- Bamboo skewers, 2 mm across", "- Glue", "- Base", "- Tools"]
-    coins = math.floor(d.m3 / COIN + 1e-9)
-    clay = d.m3 - coins * COIN
+    coins, clay, seats = counterbalance_of(d)
     robot = d.coin_mass / COIN
     frames = cfg.scene.frames
     if abs(robot - round(robot)) < 1e-6:
         assert buy[1].endswith(f": {frames * coins + round(robot)} ({coins} per counterbalance x {frames} frames, "
                                f"{round(robot)} on the robot's torso).")
-    assert buy[2].startswith(f"- Modelling clay: {frames * clay * 1e3:.1f} g" if clay > 1e-9 else
-                             "- Modelling clay: none")
+    assert buy[2] == (f"- Modelling clay: {frames * clay * 1e3:.1f} g ({clay * 1e3:.2f} g per counterbalance: weigh it "
+                      f"with the counterbalance's 2 coin seats, {(clay + seats) * 1e3:.2f} g together, on a kitchen "
+                      f"scale that reads 0.1 g)." if clay else "- Modelling clay: none (the counterbalances are whole "
+                      "coins and their coin seats).")
     assert f": {frames} x " in buy[3] and f"(rotation axis), {2 * frames} x " in buy[3]
     rest = rest[3 + len(buy):]
     # the clearance section: the verdict, then a line per pair of parts that meet, their count read back
@@ -1267,10 +1308,10 @@ def test_sheet_md_gives_every_part_in_mm_and_g_as_the_config_says(sheet):
     rest, stop = caption_numbers(r"^([0-9.]+) deg / ([0-9.]+) deg$",
                                  rows["rest angle (the stopper skewer holds it there) / end stop"])
     printed(rest, d.rest_angle_deg, 1), printed(stop, d.stop_angle_deg, 1)
-    coins, clay, total = caption_numbers(r"^(\d+) one-yen coins? \+ ([0-9.]+) g clay \(([0-9.]+) g\)$",
+    coins, clay, total = caption_numbers(r"^(\d+) one-yen coins? \+ ([0-9.]+) g clay \+ 2 coin seats \(([0-9.]+) g\)$",
                                          rows["mass at (La, h) (m3)"])
-    assert int(coins) == math.floor(d.m3 / COIN + 1e-9)
-    printed(clay, d.m3 * 1e3 - int(coins), 2), printed(total, d.m3 * 1e3, 2)
+    assert int(coins) == counterbalance_of(d)[0]
+    printed(clay, counterbalance_of(d)[1] * 1e3, 2), printed(total, d.m3 * 1e3, 2)
     back, front = caption_numbers(r"^([0-9.]+) mm / ([0-9.]+) mm$", rows["an L of card: back leg / front leg"])
     printed(back, d.notch_back_face * 1e3, 1), printed(front, d.notch_front_face * 1e3, 1)
     tilt, horizontal, opening = caption_numbers(
@@ -1423,7 +1464,8 @@ def test_the_sheets_rows_say_one_coin_one_layer_and_no_near_card_pair(paper_cfg)
 
     cfg = paper_cfg.replace({"design.m3": 0.0015, "design.arm_mass": 4e-5, "design.mu_s": 1.2, "design.mu_k": 0.9})
     rows = {ln.what: ln.value for ln in lines(cfg)}
-    assert rows["mass at (La, h) (m3)"] == "1 one-yen coin + 0.50 g clay (1.50 g)"
+    # 1.5 g less its two coin seats (squares of card 22 mm a side, 0.30 g): one coin and 0.20 g of clay
+    assert rows["mass at (La, h) (m3)"] == "1 one-yen coin + 0.20 g clay + 2 coin seats (1.50 g)"
     assert rows["arm: axle hole to hook tip / mass / card"] == "30.0 mm / 0.04 g / one layer"
     name = min(TABLE_3, key=lambda p: math.hypot(p[1] - 1.2, p[2] - 0.9))[0]
     assert rows["the card pair that gives the friction"] == (
@@ -1445,7 +1487,9 @@ def test_a_tuned_value_reads_in_the_unit_a_maker_uses(paper_cfg):
     assert workbench("scene.pitch", 0.076, paper_cfg) == "76.0 mm"
     assert workbench("design.handrail_mass", 0.000214, paper_cfg) == "0.21 g"
     assert workbench("design.coin_mass", 0.0035, paper_cfg) == "3 one-yen coins + 0.50 g clay (3.50 g)"
-    assert workbench("design.m3", 0.009, paper_cfg) == "9 one-yen coins + 0.00 g clay (9.00 g)"
+    # 9 g on its two coin seats (0.30 g): 8 coins and 0.70 g of clay; 9.3 g: 9 coins and no clay
+    assert workbench("design.m3", 0.009, paper_cfg) == "8 one-yen coins + 0.70 g clay + 2 coin seats (9.00 g)"
+    assert workbench("design.m3", 0.0093004, paper_cfg) == "9 one-yen coins + 0.00 g clay + 2 coin seats (9.30 g)"
     assert workbench("design.pivot_friction", 1.185e-4, paper_cfg) == ""  # N·m: no workbench reading
     assert workbench("design.spring_k", 8.77e-4, paper_cfg) == "0.877 N·mm/rad"
     assert workbench("design.Cd", 1.05, paper_cfg) == "" and workbench("design.stop_angle_deg", 180.0, paper_cfg) == ""

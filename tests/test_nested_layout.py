@@ -76,19 +76,21 @@ def test_each_wide_frames_counterbalance_is_outside_its_cards_and_the_crossbeams
     d = paper_cfg.design
     wide = row.kinds[1]
     outer = wide.span / 2 + wide.layers * CARD_T
-    coins = [p for p in asm.frames[1] if p.name.startswith("counterbalance")]
-    assert sorted(p.name for p in coins) == ["counterbalance clay (0.2 g)", "counterbalance coins (far) (3)",
-                                             "counterbalance coins (near) (4)"]
+    coins = [p for p in asm.frames[1] if p.name.startswith(("counterbalance", "coin seat"))]
+    # 7.2 g: two coin seats (0.30 g of card), six coins, 0.90 g of clay
+    assert sorted(p.name for p in coins) == ["coin seat (far)", "coin seat (near)", "counterbalance clay (0.9 g)",
+                                             "counterbalance coins (far) (3)", "counterbalance coins (near) (3)"]
     for p in coins:
         lo, hi = p.solid.bounding_box()[2], p.solid.bounding_box()[5]
         assert lo >= outer - 1e-12 or hi <= -outer + 1e-12, p.name  # on an outer face, outside the card
-    # the narrow frame's counterbalance stays between its cards
-    inside = [p for p in asm.frames[0] if p.name.startswith("counterbalance")]
-    assert all(abs(b) < 0.015 for p in inside for b in (p.solid.bounding_box()[2], p.solid.bounding_box()[5]))
+    # the narrow frame's counterbalance stays between its cards, each stack on a card's inner face
+    inside = [p for p in asm.frames[0] if p.name.startswith(("counterbalance", "coin seat"))]
+    assert len(inside) == 5
+    assert all(abs(b) <= 0.015 + 1e-12 for p in inside for b in (p.solid.bounding_box()[2], p.solid.bounding_box()[5]))
     beams = [p for p in asm.stand if p.name.startswith("crossbeam")]
     reach = max(abs(b) for p in coins for b in (p.solid.bounding_box()[2], p.solid.bounding_box()[5]))
     assert all(min(abs(p.solid.bounding_box()[2]), abs(p.solid.bounding_box()[5])) >= reach for p in beams)
-    assert build.counterbalance_load(d.m3)["coins"] == 7
+    assert build.counterbalance_load(d.m3)["coins"] == 6
 
 
 @pytest.mark.slow

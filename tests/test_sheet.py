@@ -26,7 +26,8 @@ def test_the_md_sheet_gives_the_configs_parts_in_mm_and_g(tmp_path, capsys):
                  "--set", "design.m3=0.0065", *SHORT_ROW]) == 0
     sheet = out.read_text()
     assert _row(sheet, "skewer hole to counterbalance (La)") == "50.1 mm"
-    assert _row(sheet, "mass at (La, h) (m3)") == "6 one-yen coins + 0.50 g clay (6.50 g)"  # no fractional coin
+    # no fractional coin; the two coin seats (squares 22 mm a side of 310 g/m² card: 0.300 g) part of m3
+    assert _row(sheet, "mass at (La, h) (m3)") == "6 one-yen coins + 0.20 g clay + 2 coin seats (6.50 g)"
     # the torso's card is what the robot's 7.71 g leaves after the arm, coins and handrail
     assert _row(sheet, "torso below the axle / its card (m2 less the parts listed here)") == \
         "39.1 mm / 2.00 g, 6 layers glued flat"
@@ -285,7 +286,9 @@ def test_a_tuned_value_reads_as_a_maker_reads_it(paper_cfg):
     from aero_env.sheet.parts import workbench
 
     assert workbench("design.La", 0.0484137, paper_cfg) == "48.4 mm"
-    assert workbench("design.m3", 0.00747632, paper_cfg) == "7 one-yen coins + 0.48 g clay (7.48 g)"
+    # the counterbalance less its two coin seats (0.300 g): 7 coins and 0.18 g of clay; the robot's coins have no seat
+    assert workbench("design.m3", 0.00747632, paper_cfg) == "7 one-yen coins + 0.18 g clay + 2 coin seats (7.48 g)"
+    assert workbench("design.coin_mass", 0.00447632, paper_cfg) == "4 one-yen coins + 0.48 g clay (4.48 g)"
     assert workbench("design.m1", 0.0024, paper_cfg) == "2.40 g"
     assert workbench("design.spring_k", 1.3232e-3, paper_cfg) == "1.323 N·mm/rad"
     # a friction is read with its own design's mu_k: 0.29/0.15 is gray/gray (0.283/0.149), 2 % off in mu_s

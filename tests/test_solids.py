@@ -96,15 +96,18 @@ def glb(tmp_path_factory):
 
 def test_the_glb_has_a_node_per_frame_on_its_axis_turning_about_local_z(glb, paper_cfg):
     """The prototype's row in its nested layout (docs/make-your-own.md): even frames narrow, their side cards' inner
-    faces 30 mm apart, the counterbalance between them; odd frames wide, their cards 1 mm outside the narrow cards'
-    outer faces, the coins halved onto their outer faces (the odd coin near, the clay far)."""
+    faces 30 mm apart, the counterbalance halved onto their inner faces; odd frames wide, their cards 1 mm outside the
+    narrow cards' outer faces, the coins halved onto their outer faces (the odd coin near, the clay far), each stack
+    on its coin seat."""
     gltf, binary = glb
     nodes = world_nodes(gltf)
     d, s = paper_cfg.design, paper_cfg.scene
     roots = {gltf["nodes"][i]["name"] for i in gltf["scenes"][0]["nodes"]}
     assert roots == {f"frame-{i}" for i in range(s.frames)} | {"robot", "stand"}
     rest = math.radians(d.rest_angle_deg)
-    coins, clay_g = math.floor(d.m3 / 1e-3 + 1e-9), round((d.m3 - math.floor(d.m3 / 1e-3 + 1e-9) * 1e-3) * 1e3, 1)
+    seats = 2 * 22e-3**2 * GRAMMAGE  # the counterbalance's two coin seats, part of m3
+    coins = math.floor((d.m3 - seats) / 1e-3 + 1e-9)
+    clay_g = round((d.m3 - seats - coins * 1e-3) * 1e3, 1)
     half = card_half_length(d) * 1e-3
 
     def extent(name):
@@ -128,19 +131,23 @@ def test_the_glb_has_a_node_per_frame_on_its_axis_turning_about_local_z(glb, pap
                 assert lo[0] == pytest.approx(-half, abs=1e-7) and hi[0] == pytest.approx(half, abs=1e-7)
             inner = lo[2] if sign > 0 else -hi[2]
             assert inner == pytest.approx(span[wide] / 2, abs=1e-7), (i, card)
-        # the counterbalance's coins sit on (La, h); a positive turn is the world's: rest -> end stop
-        if not wide:  # one stack centred between the cards, the clay on it
-            lo, hi = extent(f"frame-{i}/counterbalance-coins-{coins}")
-            clay_lo, clay_hi = extent(f"frame-{i}/counterbalance-clay-{clay_g}-g")
-            assert lo[2] == pytest.approx(-clay_hi[2], abs=1e-7)  # coins and clay centred between the cards
-        else:  # outside: the odd coin on the near card's outer face, the rest and the clay on the far card's
-            lo, hi = extent(f"frame-{i}/counterbalance-coins-near-{(coins + 1) // 2}")
-            far_lo, far_hi = extent(f"frame-{i}/counterbalance-coins-far-{coins // 2}")
-            clay_lo, clay_hi = extent(f"frame-{i}/counterbalance-clay-{clay_g}-g")
-            outer = extent(f"frame-{i}/side-card-near")[1][2]  # the near card's outer face
-            assert lo[2] == pytest.approx(outer, abs=1e-7) and far_hi[2] == pytest.approx(-outer, abs=1e-7)
-            assert hi[2] - lo[2] == pytest.approx((coins + 1) // 2 * 1.5e-3, abs=1e-7)
-            assert clay_hi[2] == pytest.approx(far_lo[2], abs=1e-7)  # the clay on the far stack
+        # the counterbalance sits on (La, h); a positive turn is the world's: rest -> end stop. Two stacks, each on
+        # its coin seat (one layer of card) on a card's face: the narrow frames' inner faces, the wide frames' outer
+        # ones; the odd coin near, the rest and the clay far
+        near_face = extent(f"frame-{i}/side-card-near")[1 if wide else 0][2]
+        way = 1.0 if wide else -1.0  # from the near card's face towards its stack
+        for card, sign, n in (("near", 1.0, (coins + 1) // 2), ("far", -1.0, coins // 2)):
+            face, out = sign * near_face, sign * way
+            seat_lo, seat_hi = extent(f"frame-{i}/coin-seat-{card}")
+            assert sorted((seat_lo[2], seat_hi[2])) == pytest.approx(sorted((face, face + out * CARD_T)), abs=1e-7)
+            assert (seat_hi - seat_lo)[:2] == pytest.approx([22e-3, 22e-3], abs=1e-9)  # a square 22 mm a side
+            lo, hi = extent(f"frame-{i}/counterbalance-coins-{card}-{n}")
+            start = face + out * CARD_T
+            assert sorted((lo[2], hi[2])) == pytest.approx(sorted((start, start + out * n * 1.5e-3)), abs=1e-7)
+            if card == "far":
+                clay_lo, clay_hi = extent(f"frame-{i}/counterbalance-clay-{clay_g}-g")
+                end = start + out * n * 1.5e-3
+                assert (clay_hi[2] if out < 0 else clay_lo[2]) == pytest.approx(end, abs=1e-7)  # on the far coins
         centre = (lo + hi) / 2
         assert centre[:2] == pytest.approx([d.La, d.h], abs=1e-6)
         world = pose @ np.array([*centre[:2], 0.0, 1.0])
@@ -160,10 +167,12 @@ def test_every_mesh_in_the_glb_is_closed_and_weighs_what_its_part_does(glb, pape
     # (grammage / thickness)
     for i in (0, 1):
         assert volumes[f"frame-{i}/side-card-near"] * GRAMMAGE / CARD_T == pytest.approx(d.m1 / 2, rel=2e-3)
-    # seven one-yen coins, 20 mm across and 1.5 mm thick, as a 32-sided prism: (32/2)·sin(2π/32)·r² per 1.5 mm
-    prism = 16 * math.sin(2 * math.pi / 32) * 0.01**2
-    assert volumes["frame-0/counterbalance-coins-7"] == pytest.approx(7 * 1.5e-3 * prism, rel=1e-5)
-    assert volumes["frame-1/counterbalance-coins-near-4"] == pytest.approx(4 * 1.5e-3 * prism, rel=1e-5)
+    # six one-yen coins (7.2 g less the seats' 0.30 g), 20 mm across and 1.5 mm thick, as a 32-sided prism:
+    # (32/2)·sin(2π/32)·r² per 1.5 mm, three on each card; a coin seat 22 mm a side, one layer of card
+    prism = 16 * math.sin(2 * math.pi / 32)
+    for i in (0, 1):
+        assert volumes[f"frame-{i}/counterbalance-coins-near-3"] == pytest.approx(3 * 1.5e-3 * prism * 0.01**2, rel=1e-5)
+        assert volumes[f"frame-{i}/coin-seat-far"] == pytest.approx(CARD_T * 0.022**2, rel=1e-9)
     # the handrail: its two faces, each its card's thickness, across the 30 mm between the narrow frames' side cards
     legs = d.notch_back_face + d.notch_front_face
     assert volumes["frame-0/handrail"] == pytest.approx(legs * d.handrail_thickness * 0.030, rel=0.03)

@@ -12,7 +12,7 @@ laminated"). The article's text gives no nets, so each build below is a stated c
 that the part as drawn weighs what Table 1 says:
 
 - **Swing frame** ("a hollow rectangular shape", the article's Sec. 2): two side cards, the
-  skewer through a hole in each, held apart by the handrail at one end and the counterbalance at
+  skewer through a hole in each, held apart by the handrail at one end (the counterbalance sits on their faces) at
   the other. Each side card is ``layers`` layers of card glued flat, cut symmetric about its hole,
   so that it balances on the skewer by itself (the paper's frame moment dT is 0; a dT a config
   names still moves the centre, as before): a rectangle running ``END`` past the farther of the
@@ -26,8 +26,11 @@ that the part as drawn weighs what Table 1 says:
 - **Handrail**: an L of one card folded along its length, its two legs the notch's faces, bridging
   the side cards ``RAIL_SPAN`` apart, with a glue tab at each end onto the cards' inner faces. The
   tabs are as long as the handrail's mass (0.21 g, Table 1) makes them.
-- **Counterbalance**: whole one-yen coins (1.00 g each) and modelling clay for the rest of m3,
-  pressed between the side cards with its centre on the counterbalance's mark (La, h). No card.
+- **Counterbalance**: two coin seats (squares of card ``COIN_RIM`` wider than a coin, one layer each), whole one-yen
+  coins (1.00 g each) and modelling clay for the rest of m3, in two stacks centred on the counterbalance's mark
+  (La, h), each glued on its seat on a side card's face (:mod:`aero_env.parts.layout` says which faces). The seats
+  hold a stack on card whatever the card's windows and cuts do under it; where a side card can be cut so that it
+  holds the coins itself (:func:`fit_ring`), it is.
 - **Arm**: a plate of ``layers`` layers glued flat, its length along the arm from ``END`` behind
   the axle hole to the hook, plus the ``HOOK_LIP`` folded into the hook (counted at the tip), its
   width across the machine what makes it weigh the arm's mass, at most ``ARM_WIDTH_MAX`` so it
@@ -78,6 +81,7 @@ RING_DEPTH_MAX = 40.0e-3  # m: a hollow side card's depth across the frame line,
 STOPPER_SPARE_DEG = 15.0  # deg a rest stopper may move lower and still turn in the window (troubleshooting's reach)
 RING_LAYERS_MAX = 6  # layers a hollow side card may have; a design no ring of these fits has flat side cards
 COIN_RIM = 1.0e-3  # m: card all round the counterbalance's coins, so that a stack a little off its mark stays on card
+COIN_SEATS = 2  # a frame's counterbalance: two stacks, each glued on a card face on its own coin seat (one layer)
 
 
 def laminate(area, length, max_width):
@@ -350,11 +354,24 @@ def notch_faces(Lb, notch_angle, notch_opening, rest_angle, back_face, front_fac
             ((cx, cy), (cx + nbx * front_face, cy + nby * front_face)))
 
 
+def coin_seat_area():
+    """m²: one coin seat, a square of card ``COIN_RIM`` wider each side than a coin (scissors cut a square cleanly),
+    one layer."""
+    return (2.0 * (YEN_COIN_RADIUS + COIN_RIM)) ** 2
+
+
+def coin_seats_mass():
+    """kg: a frame's ``COIN_SEATS`` coin seats."""
+    return COIN_SEATS * GRAMMAGE * coin_seat_area()
+
+
 def counterbalance_load(m3) -> dict:
-    """Whole one-yen coins and the clay for the rest of m3 (kg, unrounded: the design space's grid rounds it)."""
-    coins = np.floor(m3 / YEN_COIN + 1e-9)
-    clay = m3 - coins * YEN_COIN
-    return dict(coins=coins, clay=np.where(clay < 1e-9, 0.0, clay), mass=m3)  # 9 g is 9 coins, not -0.00 g of clay
+    """What m3 (kg) is made of: its ``COIN_SEATS`` coin seats (``seats``, kg), whole one-yen coins, and the clay for
+    the rest (unrounded: the design space's grid rounds m3). The config refuses an m3 lighter than the seats."""
+    seats = coin_seats_mass()
+    coins = np.maximum(np.floor((m3 - seats) / YEN_COIN + 1e-9), 0.0)
+    clay = m3 - seats - coins * YEN_COIN
+    return dict(coins=coins, clay=np.where(clay < 1e-9, 0.0, clay), seats=seats, mass=m3)  # no -0.00 g of clay
 
 
 # ---- the robot ---------------------------------------------------------------------------------------------------

@@ -272,35 +272,49 @@ def handrails(cfg) -> list[Piece]:
 def counterbalance(cfg) -> Piece:
     d, frames = cfg.design, cfg.scene.frames
     load = build.counterbalance_load(d.m3)
-    coins, clay = int(load["coins"]), float(load["clay"])
-    r = 10.0
+    coins, clay, seats = int(load["coins"]), float(load["clay"]), float(load["seats"])
+    r = build.YEN_COIN_RADIUS * MM
     added = ((f"{_plural(coins, 'one-yen coin')}", coins * build.YEN_COIN),) if coins else ()
     added += (("modelling clay", clay),) if clay > 0 else ()
     return Piece(
         "counterbalance", "part-counterbalance", frames, 0, 0.0, added, "design.m3", 1, (),
-        (f"COUNTERBALANCE: {frames}, 1 per frame, no card: {_plural(coins, 'one-yen coin')} and {clay * 1e3:.2f} g of "
-         f"modelling clay ({d.m3 * 1e3:.2f} g),",
+        (f"COUNTERBALANCE: {frames}, 1 per frame: {_plural(coins, 'one-yen coin')} and {clay * 1e3:.2f} g of "
+         f"modelling clay, on {build.COIN_SEATS} coin seats of card ({seats * 1e3:.2f} g): {d.m3 * 1e3:.2f} g in all,",
          _placement(cfg)),
         (_circle(r, 0, r, "mark"), *_cross(r, 0)))
+
+
+def coin_seat(cfg) -> Piece:
+    """The counterbalance's coin seats: a square of card a little wider than a coin under each stack."""
+    frames, n = cfg.scene.frames, build.COIN_SEATS
+    r = (build.YEN_COIN_RADIUS + build.COIN_RIM) * MM
+    return Piece(
+        "coin seat", "part-coin-seat", n * frames, 1, build.coin_seat_area(), (), "design.m3", n, (),
+        (f"COIN SEAT: {_plural(n * frames, 'square')} ({n * frames} cuts), {n} per frame, one layer: {2 * r:.1f} x "
+         f"{2 * r:.1f} mm, {build.COIN_RIM * MM:.1f} mm wider each side than a coin (the circle).",
+         "Glue one on each side card's face where its stack of the counterbalance goes, centred on the black cross, "
+         "then the stack on it: it holds the coins on card whatever the card's windows do under them. The seats are "
+         "part of m3."),
+        (_rect(0, 0, 2 * r, 2 * r), _circle(r, r, build.YEN_COIN_RADIUS * MM, "mark"), *_cross(r, r)))
 
 
 def _placement(cfg) -> str:
     """Where the counterbalance goes, in the kit's layout."""
     row = kit_layout(cfg)
-    between = ("pressed between the side cards, centred on the side card's black cross (the circle: a coin's size, "
-               "not a cut).")
-    if row.name != "nested":
-        return between
     clay = float(build.counterbalance_load(cfg.design.m3)["clay"]) > 0
 
     def stack(coins: int, with_clay: bool) -> str:
         return " and ".join([_plural(coins, "coin")] * (coins > 0) + ["the clay"] * (with_clay and clay)) or "nothing"
 
-    near, far = counterbalance_stacks(cfg.design, True)
+    near, far = counterbalance_stacks(cfg.design)
+    stacks = (f"{stack(*near[1:])} on the near card, {stack(*far[1:])} on the far card, each on its coin seat, "
+              f"centred on the card's black cross (the circle: a coin's size, not a cut).")
+    inside = f"glued on the side cards' inner faces: {stacks}"
+    if row.name != "nested":
+        return f"In two stacks {inside}"
     narrow, wide = (", ".join(str(i) for i in row.frames_of(kind)) for kind in ("narrow", "wide"))
-    return (f"Narrow frames ({narrow}): {between} Wide frames ({wide}): outside, where no other frame's card "
-            f"passes, glued on the cards' outer faces, centred on their black crosses: {stack(*near[1:])} on the "
-            f"near card, {stack(*far[1:])} on the far card.")
+    return (f"In two stacks. Narrow frames ({narrow}): {inside} Wide frames ({wide}): outside, where no other "
+            f"frame's card passes, glued on the cards' outer faces, the same stacks.")
 
 
 def arm(cfg) -> Piece:
@@ -366,7 +380,7 @@ def spring(cfg, card: Card = PAPER_CARD) -> Piece | None:
 def pieces(cfg, card: Card = PAPER_CARD) -> list[Piece]:
     """Every piece of the kit, in the order of work: the stand, the frames, the robot."""
     out = [*crossbeam_segments(cfg), *uprights(cfg), *side_cards(cfg), *handrails(cfg), counterbalance(cfg),
-           torso(cfg), arm(cfg)]
+           coin_seat(cfg), torso(cfg), arm(cfg)]
     strip = spring(cfg, card)
     return out + ([strip] if strip is not None else [])
 

@@ -7,8 +7,8 @@ frame's parts go across the row and cuts the cards where a neighbour's part stil
 - **Nested frames.** Frames alternate. Even frames (0, 2, ...) are *narrow*: their side cards' inner faces
   ``RAIL_SPAN`` apart, as the robot needs. Odd frames are *wide*: their cards ``GAP`` outside the narrow cards'
   outer faces. So no card meets a neighbour's card, and what lies between a narrow frame's cards (its handrail,
-  its counterbalance) never reaches a wide frame's. The wide frames' counterbalance goes outside, half on each
-  card's outer face, where no other card is.
+  its counterbalance, half on each card's inner face) never reaches a wide frame's. The wide frames' counterbalance
+  goes outside, half on each card's outer face, where no other card is.
 - **What still crosses a card's plane**: the wide frames' handrails (each an L spanning its wide frame, so through
   the narrow cards' planes) and every skewer (the axes and the stoppers run from crossbeam to crossbeam).
 - **Cut-away cards.** A card is cut away where those parts sweep: each neighbour turning from rest to its end stop
@@ -215,7 +215,7 @@ def fit_cut_card(sc: dict, keep_out: m3.CrossSection, pins: float) -> tuple[np.n
 class FrameKind:
     """One kind of frame: ``name`` narrow or wide; ``span`` (m) its side cards' inner faces apart; ``outline`` (mm)
     its side card, of ``layers`` layers; ``extents`` the fitted :data:`PARAMS` of a cut-away card (None: the hollow
-    card as it is); ``coins_outside``: its counterbalance on its cards' outer faces (else between them)."""
+    card as it is); ``coins_outside``: its counterbalance on its cards' outer faces (else on their inner faces)."""
     name: str
     span: float
     outline: m3.CrossSection
@@ -356,28 +356,26 @@ def nested_refusal(cfg) -> str:
     return "" if row.found else row.reason
 
 
-def counterbalance_stacks(d, outside: bool) -> list[tuple[str, int, bool]]:
-    """How a frame's counterbalance is stacked: (where, coins, clay on it) per stack. Between the cards, one stack
-    with its clay; outside, the coins halved onto the two outer faces (the odd one on the near card), the clay on
-    the far stack."""
+def counterbalance_stacks(d) -> list[tuple[str, int, bool]]:
+    """How a frame's counterbalance is stacked: (where, coins, clay on it) per stack. Two stacks, each on its coin seat
+    on one side card's face (the narrow frames' inner faces, the wide frames' outer ones): the coins halved, the odd
+    one on the near card, the clay on the far stack."""
     coins = int(build.counterbalance_load(d.m3)["coins"])
-    if not outside:
-        return [("", coins, True)]
     return [(" (near)", (coins + 1) // 2, False), (" (far)", coins // 2, True)]
 
 
 def reach_across(d, layout: RowLayout) -> float:
-    """m: how far from the row's middle plane any frame's part reaches across (its cards' outer faces, its coins
-    and clay on them)."""
+    """m: how far from the row's middle plane any frame's part reaches across (its cards' outer faces, its coin seats,
+    coins and clay on them)."""
     load = build.counterbalance_load(d.m3)
     clay = float(load["clay"]) / build.CLAY_DENSITY / (math.pi * build.YEN_COIN_RADIUS**2)
     reach = 0.0
     for k in layout.kinds:
         outer = k.span / 2 + k.layers * build.CARD_THICKNESS
-        stacks = counterbalance_stacks(d, k.coins_outside) if k.coins_outside else []
-        tallest = max((n * build.YEN_COIN_THICKNESS + (clay if with_clay else 0.0) for _, n, with_clay in stacks),
-                      default=0.0)
-        reach = max(reach, outer + tallest)
+        if k.coins_outside:
+            outer += build.CARD_THICKNESS + max(n * build.YEN_COIN_THICKNESS + (clay if with_clay else 0.0)
+                                                for _, n, with_clay in counterbalance_stacks(d))
+        reach = max(reach, outer)
     return reach
 
 

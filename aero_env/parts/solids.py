@@ -87,7 +87,7 @@ def placed(solid: m3.Manifold, matrix: np.ndarray) -> m3.Manifold:
 # ---- a swing frame ------------------------------------------------------------------------------------------------
 def frame_parts(d, kind: FrameKind) -> list[Part3D]:
     """A swing frame's parts in its own coordinates: the two side cards (``kind.outline``, hole included), the
-    handrail L between them, the counterbalance's coins and clay (:func:`counterbalance_parts`)."""
+    handrail L between them, the counterbalance's coin seats, coins and clay (:func:`counterbalance_parts`)."""
     t = kind.layers * build.CARD_THICKNESS
     span = kind.span
     card = kind.outline.scale((MM, MM))  # the outline's mm to m
@@ -100,25 +100,28 @@ def frame_parts(d, kind: FrameKind) -> list[Part3D]:
     rail = m3.Manifold.batch_boolean([slab(a, b, d.handrail_thickness, -span / 2, span / 2) for a, b in faces],
                                      m3.OpType.Add)
     out.append(Part3D("handrail", rail))
-    out += counterbalance_parts(d, span + 2 * t if kind.coins_outside else None)
+    out += counterbalance_parts(d, span / 2 + t if kind.coins_outside else span / 2, kind.coins_outside)
     return out
 
 
-def counterbalance_parts(d, outer: float | None) -> list[Part3D]:
-    """The counterbalance's whole coins and its clay (a disc of the coins' size) on (La, h), stacked as
-    :func:`aero_env.parts.layout.counterbalance_stacks` says: one stack centred between the cards (``outer`` None),
-    or, with the cards' outer faces ``outer`` apart, a stack on each outer face, the clay on the far one's coins."""
+def counterbalance_parts(d, face: float, outside: bool) -> list[Part3D]:
+    """The counterbalance on (La, h), stacked as :func:`aero_env.parts.layout.counterbalance_stacks` says: each
+    stack on its coin seat (a square of card ``COIN_RIM`` wider than a coin), the seat on the face of a side card
+    ``face`` off the frame's middle plane (the near card on +z), on its outer side (``outside``) or its inner one;
+    the clay on the far stack's coins."""
     load = build.counterbalance_load(d.m3)
     clay = float(load["clay"])
-    r, c = build.YEN_COIN_RADIUS, build.YEN_COIN_THICKNESS
+    r, c, t = build.YEN_COIN_RADIUS, build.YEN_COIN_THICKNESS, build.CARD_THICKNESS
     clay_height = clay / build.CLAY_DENSITY / (math.pi * r**2)
-    stacks = counterbalance_stacks(d, outer is not None)
     out = []
-    for where, n, with_clay in stacks:
-        if outer is None:
-            z0, way = -(n * c + clay_height) / 2, 1.0
-        else:
-            z0, way = (outer / 2, 1.0) if where == " (near)" else (-outer / 2, -1.0)
+    for where, n, with_clay in counterbalance_stacks(d):
+        card_side = 1.0 if where == " (near)" else -1.0
+        way = card_side if outside else -card_side  # from the card's face towards the stack
+        z_seat = card_side * face
+        z0 = z_seat + way * t
+        s = r + build.COIN_RIM
+        out.append(Part3D(f"coin seat{where}",
+                          box(d.La - s, d.La + s, d.h - s, d.h + s, min(z_seat, z0), max(z_seat, z0))))
         z1 = z0 + way * n * c
         if n:
             out.append(Part3D(f"counterbalance coins{where} ({n})", rod(d.La, d.h, r, min(z0, z1), max(z0, z1))))

@@ -46,7 +46,7 @@ def bill_lines(cfg: Config, sheets: dict[str, int], too_big=(), in_pdf: bool = T
     d, s = cfg.design, cfg.scene
     ps = pieces(cfg)
     load = build.counterbalance_load(d.m3)
-    coins, clay = int(load["coins"]), float(load["clay"])
+    coins, clay, seats = int(load["coins"]), float(load["clay"]), float(load["seats"])
     stack = build.coin_stack(d)
     robot_coins, whole = stack["coins"], stack["whole"]
     n_copies = sum(p.cuts for p in ps)
@@ -62,8 +62,10 @@ def bill_lines(cfg: Config, sheets: dict[str, int], too_big=(), in_pdf: bool = T
         f"({coins} per counterbalance x {s.frames} frames"
         + (f", {round(robot_coins)} on the robot's torso)." if whole else
            f"); the robot's torso carries {d.coin_mass * 1e3:.2f} g of coins or metal."),
-        f"Modelling clay: {s.frames * clay * 1e3:.1f} g ({clay * 1e3:.1f} g per counterbalance, weighed on a kitchen "
-        f"scale that reads 0.1 g)." if clay > 0 else "Modelling clay: none (the counterbalances are whole coins).",
+        f"Modelling clay: {s.frames * clay * 1e3:.1f} g ({clay * 1e3:.2f} g per counterbalance: weigh it with the "
+        f"counterbalance's {build.COIN_SEATS} coin seats, {(clay + seats) * 1e3:.2f} g together, on a kitchen scale "
+        f"that reads 0.1 g)." if clay > 0 else "Modelling clay: none (the counterbalances are whole coins and their "
+        "coin seats).",
         f"Bamboo skewers, {build.SKEWER_D * 1e3:.0f} mm across: "
         + ", ".join(f"{n} x {length * 1e3:.0f} mm ({what})" for what, n, length in skewer_pieces(cfg))
         + f"; {stock_skewers(cfg)} skewers {SKEWER_STOCK * 1e2:.0f} cm long give them all.",

@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass
 
 from ..config import CARD_PAIRS, Config
-from ..parts.build import counterbalance_load, side_card
+from ..parts.build import COIN_SEATS, YEN_COIN, counterbalance_load, side_card
 from ..parts.card import PAPER_CARD, Card
 from ..parts.kit import pieces, shapes_extent
 from ..parts.layout import kit_layout
@@ -37,11 +37,14 @@ def grams(x_kg: float) -> str:
     return f"{x_kg * 1e3:.2f} g"
 
 
-def coins_and_clay(x_kg: float) -> str:
-    """A mass as whole one-yen coins and the modelling clay for the rest."""
-    load = counterbalance_load(x_kg)
-    coins, clay = int(load["coins"]), float(load["clay"])
-    return f"{coins} one-yen coin{'' if coins == 1 else 's'} + {clay * 1e3:.2f} g clay ({grams(x_kg)})"
+def coins_and_clay(x_kg: float, seats: bool = True) -> str:
+    """A mass as whole one-yen coins and the modelling clay for the rest; a counterbalance's (``seats``) on its coin
+    seats, whose card is part of it."""
+    load = counterbalance_load(x_kg) if seats else dict(coins=math.floor(x_kg / YEN_COIN + 1e-9))
+    coins = int(load["coins"])
+    clay = x_kg - coins * YEN_COIN - (float(load["seats"]) if seats else 0.0)
+    on = f" + {COIN_SEATS} coin seats" if seats else ""
+    return f"{coins} one-yen coin{'' if coins == 1 else 's'} + {max(clay, 0.0) * 1e3:.2f} g clay{on} ({grams(x_kg)})"
 
 
 def cut_extent(piece) -> tuple[float, float]:
@@ -68,7 +71,7 @@ def workbench(key: str, value: float, cfg: Config) -> str:
 
     unit = real_field(key, "workbench").metadata["unit"]
     if key in ("design.m3", "design.coin_mass"):
-        return coins_and_clay(value)
+        return coins_and_clay(value, seats=key == "design.m3")
     if key == "design.mu_s":
         pair, off = card_pair(value, cfg.design.mu_k)
         return f"nearest card pair: {pair}, {100 * off:.0f} % off"
