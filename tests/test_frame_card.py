@@ -74,10 +74,11 @@ def test_the_card_holds_the_counterbalances_coins_where_a_card_that_swings_as_a1
 
 
 def _card_and_coins(La, m1, h, a13=True) -> bool:
-    """Whether the card holds the coins, each side of it checked. The coins (20 mm across, on the mark (La, h)) lie on card with 1 mm to spare: the card runs past them, is deep
-    enough, and its windows stop short of them, so the end bar carries the whole stack. Where no such card weighs
-    m1/2 and swings as A13 says (a light frame, a long arm, a mark far off the line), the shortest card, 4 mm past the
-    farther of the seat and the mark, still swinging as A13 says; the coins then overhang it or a window."""
+    """Whether the card holds the coins, each side of it checked. The coins (20 mm across, on the mark (La, h)) lie
+    on card with 1 mm to spare: the card runs past them, is deep enough, and its windows stop short of them, so the
+    end bar carries the whole stack. Where no such card weighs m1/2 and swings as A13 says (a light frame, a long
+    arm, a mark far off the line), the shortest card, 4 mm past the farther of the seat and the mark, still swinging
+    as A13 says; the coins then overhang it or a window."""
     d = _design(La, m1=m1, h=h)
     sc = build.side_card(d)
     H, layers, depth, end = hollow_card_full(d)

@@ -517,6 +517,21 @@ def test_a_row_that_falls_below_the_stands_foot_is_refused_in_one_line(tmp_path,
     assert not (tmp_path / "t.svg").exists()
 
 
+def test_a_counterbalance_lighter_than_its_coin_seats_gets_no_sheet_in_one_line(tmp_path, capsys):
+    """Its two coin seats, squares of card 22 mm a side (one layer of 310 g/m²), weigh 0.30 g: a lighter m3 runs in
+    the simulator (a unit slip warns, an experiment may mean it) but no kit makes it; the sheet says so before any
+    work, and one just heavier than the seats is drawn."""
+    seats = SEATS * SEAT**2 * 1e-6 * G
+    out = tmp_path / "t.svg"
+    assert main(["sheet", str(PAPER), "--out", str(out), "--set", "design.m3=0.0002", "--no-progress"]) == 2
+    assert capsys.readouterr().err == (
+        f"aero-env: config error: design.m3 = 0.0002: lighter than the 2 coin seats of card the counterbalance sits "
+        f"on ({seats:.4g} kg): no kit can make it, allowed m3 >= {seats:.4g} kg\n")
+    assert not out.exists()
+    assert main(["sheet", str(PAPER), "--out", str(out), "--set", f"design.m3={seats * (1 + 1e-9)!r}",
+                 "--set", "scene.frames=2", "--no-progress"]) == 0 and out.exists()
+
+
 def test_every_pieces_card_is_its_drawn_outline_less_its_holes(kit):
     """The card parts.json gives each piece is the area of the outline drawn for it less its holes, to the drawing's
     rounding (0.01 mm): a hole's card is 4.5 mm², the rounding's bound on a 37 x 22 mm arm 0.3 mm²."""

@@ -98,8 +98,8 @@ def test_the_template_renders_at_its_stated_size_with_every_part_and_no_overlap(
     frames = {"part-frame-side-card", "part-handrail"}
     nested = {f"{p}-{k}" for p in frames for k in ("narrow", "wide")}
     assert beams and names - beams - frames - nested == {"part-upright-first", "part-upright-last", "stand",
-                                                         "part-counterbalance", "part-arm", "part-torso",
-                                                         "part-leaf-spring"}
+                                                         "part-counterbalance", "part-coin-seat", "part-arm",
+                                                         "part-torso", "part-leaf-spring"}
     assert names & (frames | nested) in (frames, nested) and (names >= nested or overrides)
     caps = m["captions"]
     for i, (text, box) in enumerate(caps):

@@ -171,7 +171,8 @@ def test_every_mesh_in_the_glb_is_closed_and_weighs_what_its_part_does(glb, pape
     # (32/2)·sin(2π/32)·r² per 1.5 mm, three on each card; a coin seat 22 mm a side, one layer of card
     prism = 16 * math.sin(2 * math.pi / 32)
     for i in (0, 1):
-        assert volumes[f"frame-{i}/counterbalance-coins-near-3"] == pytest.approx(3 * 1.5e-3 * prism * 0.01**2, rel=1e-5)
+        coins = volumes[f"frame-{i}/counterbalance-coins-near-3"]
+        assert coins == pytest.approx(3 * 1.5e-3 * prism * 0.01**2, rel=1e-5)
         assert volumes[f"frame-{i}/coin-seat-far"] == pytest.approx(CARD_T * 0.022**2, rel=1e-9)
     # the handrail: its two faces, each its card's thickness, across the 30 mm between the narrow frames' side cards
     legs = d.notch_back_face + d.notch_front_face

@@ -258,10 +258,6 @@ _DESIGN_RULES = (
                    f"(design.La = {d.La!r}, design.Lb = {d.Lb!r}): no frame can be cut so light, allowed "
                    f"[{2.0 * build.lightest_plate(build.side_card_length(d)):.4g}, "
                    f"{Design.__dataclass_fields__['m1'].metadata['hi']:g}] kg"),
-    (lambda d: d.m3 < build.coin_seats_mass(),
-     lambda d, at: f"design.m3{at} = {d.m3!r}: lighter than the {build.COIN_SEATS} coin seats of card the "
-                   f"counterbalance sits on ({build.coin_seats_mass():.4g} kg): no counterbalance can be made so "
-                   f"light, allowed [{build.coin_seats_mass():.4g}, {Design.__dataclass_fields__['m3'].metadata['hi']:g}] kg"),
     (lambda d: d.arm_mass < build.lightest_plate(build.arm_net_length(d)),
      lambda d, at: f"design.arm_mass{at} = {d.arm_mass!r}: lighter than an arm of one layer as wide as its "
                    f"{build.HOLE_D * 1e3:g} mm axle hole over its {1e3 * build.arm_net_length(d):.4g} mm net "

@@ -530,6 +530,17 @@ def check_stand(cfg) -> None:
                           f"{foot:.0f} mm, allowed rise >= {(foot / MM - s.floor_drop) / (s.frames - 1):.4g} m")
 
 
+def check_counterbalance(cfg) -> None:
+    """Refuse, in one line naming the field, a counterbalance lighter than the coin seats it sits on: no kit makes it.
+    The simulator runs such an m3 as given (a unit slip warns, an experiment may mean it); the sheet cannot draw it."""
+    seats = build.coin_seats_mass()
+    if cfg.design.m3 < seats:
+        from ..config import ConfigError
+
+        raise ConfigError(f"design.m3 = {cfg.design.m3!r}: lighter than the {build.COIN_SEATS} coin seats of card the "
+                          f"counterbalance sits on ({seats:.4g} kg): no kit can make it, allowed m3 >= {seats:.4g} kg")
+
+
 def uprights(cfg) -> list[Piece]:
     """The four legs that hold the crossbeams: the first axis floor_drop above a level floor, the last one the row's
     rise higher (the world's floor follows the row; a table does not, and only a fall reaches it)."""

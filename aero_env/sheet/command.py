@@ -209,7 +209,7 @@ def fit_layout(cfg: Config, stream=None) -> None:
 
 
 def cmd_sheet(args) -> int:
-    from ..parts.kit import check_stand
+    from ..parts.kit import check_counterbalance, check_stand
     from ..scene_args import check_output, check_output_dir, load_scene
     from .kit_pdf import kit_pdfs
     from .template import svg
@@ -237,6 +237,7 @@ def cmd_sheet(args) -> int:
                               f"({', '.join(differs[:4])}{' ...' if len(differs) > 4 else ''} differ)")
         compare = (args.compare, other)
     check_stand(cfg)  # before the layout's fit: a row the stand cannot hold is refused at once
+    check_counterbalance(cfg)  # and a counterbalance lighter than its coin seats
     t0 = time.perf_counter()
     progress = not args.no_progress
     if progress:
