@@ -94,8 +94,9 @@ def test_a_tuned_buildable_design_reads_as_whole_coins_and_a_card_pair_on_its_sh
     assert load_config(path) == cfg  # the step and the choices survive the round trip
     assert main(["sheet", str(path), "--out", str(tmp_path / "s.md"), "--draws", "0"]) == 0
     sheet = (tmp_path / "s.md").read_text()
-    coins = cfg.design.m3 * 1e3
-    assert f"{math.floor(coins + 1e-9)} one-yen coins + {coins - math.floor(coins + 1e-9):.2f} g clay" in sheet
+    rest = cfg.design.m3 * 1e3 - 2 * 22.0**2 * 0.310e-3  # g: m3 less its two coin seats (card 22 mm a side)
+    coins = math.floor(rest + 1e-9)
+    assert f"{coins} one-yen coins + {rest - coins:.2f} g clay + 2 coin seats" in sheet
     assert "gray arm on gray handrail" in sheet and "within 0 %" in sheet
 
 
