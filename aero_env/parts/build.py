@@ -12,7 +12,7 @@ laminated"). The article's text gives no nets, so each build below is a stated c
 that the part as drawn weighs what Table 1 says:
 
 - **Swing frame** ("a hollow rectangular shape", the article's Sec. 2): two side cards, the
-  skewer through a hole in each, held apart by the handrail at one end (the counterbalance sits on their faces) at
+  skewer through a hole in each, held apart by the handrail at one end, the counterbalance on their faces at
   the other. Each side card is ``layers`` layers of card glued flat, cut symmetric about its hole,
   so that it balances on the skewer by itself (the paper's frame moment dT is 0; a dT a config
   names still moves the centre, as before): a rectangle running ``END`` past the farther of the
