@@ -113,16 +113,16 @@ def side_card_length(d: Design):
 
 def coin_card_length(d: Design):
     """A side card's length (m) that also runs ``COIN_RIM`` past the counterbalance's coins (:func:`coin_seat`)."""
-    return np.maximum(side_card_length(d), 2.0 * (d.La + YEN_COIN_RADIUS + COIN_RIM))
+    return np.maximum(side_card_length(d), 2.0 * coin_seat(d)["outer"])
 
 
 def coin_seat(d: Design) -> dict:
-    """Where the counterbalance's coins and clay sit on a side card: a disc of a coin's size centred on the mark
-    (La, h), and the card it needs round it, ``COIN_RIM`` wide: ``half_depth`` (the card must reach that far either
-    side of the frame line) and ``inner`` (how far from the hole a window may reach towards the counterbalance: the
-    end bar then holds the whole stack). m, floats or arrays."""
+    """The card the counterbalance's coins need under them on a side card: a coin's disc on the mark (La, h) and
+    ``COIN_RIM`` round it. ``outer`` (the card must run that far from the hole), ``half_depth`` (that far either side
+    of the frame line) and ``inner`` (how far from the hole a window may reach towards the counterbalance: the end
+    bar then holds the whole stack). m, floats or arrays."""
     rim = YEN_COIN_RADIUS + COIN_RIM
-    return dict(centre=(d.La, d.h), radius=YEN_COIN_RADIUS, half_depth=np.abs(d.h) + rim, inner=d.La - rim)
+    return dict(outer=d.La + YEN_COIN_RADIUS + COIN_RIM, half_depth=np.abs(d.h) + rim, inner=d.La - rim)
 
 
 def a13_inertia(d: Design):
@@ -291,7 +291,7 @@ def side_card(d: Design) -> dict:
     pick = (lambda a: np.asarray(a).item()) if np.ndim(flat_length) == 0 else np.asarray
     window = np.where(hollow, half - ring_e - HUB_BAR / 2, 0.0)
     seat = coin_seat(d)  # the coins on card: within its length and depth, clear of its windows (to 1 nm: the fit's)
-    holds_coins = ((half >= d.La + YEN_COIN_RADIUS + COIN_RIM - 1e-9) & (ring_V >= seat["half_depth"] - 1e-9)
+    holds_coins = ((half >= seat["outer"] - 1e-9) & (ring_V >= seat["half_depth"] - 1e-9)
                    & (~np.asarray(hollow) | (HUB_BAR / 2 + window <= seat["inner"] + 1e-9)))
     return dict(half_length=pick(half), length=pick(length), depth=pick(np.where(hollow, 2.0 * ring_V, flat_depth)),
                 layers=pick(np.where(hollow, ring["layers"], flat_layers)), mass=mass,
@@ -365,10 +365,11 @@ def coin_seats_mass():
     return COIN_SEATS * GRAMMAGE * coin_seat_area()
 
 
-def counterbalance_load(m3) -> dict:
-    """What m3 (kg) is made of: its ``COIN_SEATS`` coin seats (``seats``, kg), whole one-yen coins, and the clay for
-    the rest (unrounded: the design space's grid rounds m3). The config refuses an m3 lighter than the seats."""
-    seats = coin_seats_mass()
+def counterbalance_load(m3, seats=None) -> dict:
+    """What m3 (kg) is made of: its coin seats (``seats``, kg: ``COIN_SEATS`` of them unless given; 0 for coins glued
+    on card, as the robot's), whole one-yen coins, and the clay for the rest (unrounded: the design space's grid
+    rounds m3). The sheet refuses an m3 lighter than the seats (:func:`aero_env.parts.kit.check_counterbalance`)."""
+    seats = coin_seats_mass() if seats is None else seats
     coins = np.maximum(np.floor((m3 - seats) / YEN_COIN + 1e-9), 0.0)
     clay = m3 - seats - coins * YEN_COIN
     return dict(coins=coins, clay=np.where(clay < 1e-9, 0.0, clay), seats=seats, mass=m3)  # no -0.00 g of clay

@@ -112,6 +112,7 @@ def counterbalance_parts(d, face: float, outside: bool) -> list[Part3D]:
     load = build.counterbalance_load(d.m3)
     clay = float(load["clay"])
     r, c, t = build.YEN_COIN_RADIUS, build.YEN_COIN_THICKNESS, build.CARD_THICKNESS
+    s = r + build.COIN_RIM  # the seat's half side
     clay_height = clay / build.CLAY_DENSITY / (math.pi * r**2)
     out = []
     for where, n, with_clay in counterbalance_stacks(d):
@@ -119,7 +120,6 @@ def counterbalance_parts(d, face: float, outside: bool) -> list[Part3D]:
         way = card_side if outside else -card_side  # from the card's face towards the stack
         z_seat = card_side * face
         z0 = z_seat + way * t
-        s = r + build.COIN_RIM
         out.append(Part3D(f"coin seat{where}",
                           box(d.La - s, d.La + s, d.h - s, d.h + s, min(z_seat, z0), max(z_seat, z0))))
         z1 = z0 + way * n * c

@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass
 
 from ..config import CARD_PAIRS, Config
-from ..parts.build import COIN_SEATS, YEN_COIN, counterbalance_load, side_card
+from ..parts.build import COIN_SEATS, counterbalance_load, side_card
 from ..parts.card import PAPER_CARD, Card
 from ..parts.kit import pieces, shapes_extent
 from ..parts.layout import kit_layout
@@ -40,11 +40,10 @@ def grams(x_kg: float) -> str:
 def coins_and_clay(x_kg: float, seats: bool = True) -> str:
     """A mass as whole one-yen coins and the modelling clay for the rest; a counterbalance's (``seats``) on its coin
     seats, whose card is part of it."""
-    load = counterbalance_load(x_kg) if seats else dict(coins=math.floor(x_kg / YEN_COIN + 1e-9))
-    coins = int(load["coins"])
-    clay = x_kg - coins * YEN_COIN - (float(load["seats"]) if seats else 0.0)
+    load = counterbalance_load(x_kg, seats=None if seats else 0.0)
+    coins, clay = int(load["coins"]), float(load["clay"])
     on = f" + {COIN_SEATS} coin seats" if seats else ""
-    return f"{coins} one-yen coin{'' if coins == 1 else 's'} + {max(clay, 0.0) * 1e3:.2f} g clay{on} ({grams(x_kg)})"
+    return f"{coins} one-yen coin{'' if coins == 1 else 's'} + {clay * 1e3:.2f} g clay{on} ({grams(x_kg)})"
 
 
 def cut_extent(piece) -> tuple[float, float]:
